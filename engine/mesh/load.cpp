@@ -1,0 +1,115 @@
+#include "mesh/load.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <new>
+
+#include "mesh/mesh_builder.hpp"
+#include "mesh/readers.hpp"
+
+namespace dfm::mesh {
+
+const char* format_name(FileFormat format) {
+    switch (format) {
+        case FileFormat::off: return "OFF";
+        case FileFormat::obj: return "OBJ";
+        case FileFormat::ply: return "PLY";
+    }
+    return "unknown";
+}
+
+std::optional<FileFormat> format_from_extension(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    for (char& c : ext) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+    if (ext == ".off") return FileFormat::off;
+    if (ext == ".obj") return FileFormat::obj;
+    if (ext == ".ply") return FileFormat::ply;
+    return std::nullopt;
+}
+
+std::optional<FileFormat> format_from_content(std::string_view head) {
+    if (head.starts_with("ply\n") || head.starts_with("ply\r\n")) return FileFormat::ply;
+    for (std::string_view key : {"OFF", "COFF", "NOFF", "CNOFF", "STOFF", "STCOFF", "STNOFF"}) {
+        if (head.starts_with(key) && (head.size() == key.size() || head[key.size()] == ' ' ||
+                                      head[key.size()] == '\n' || head[key.size()] == '\r')) {
+            return FileFormat::off;
+        }
+    }
+    return std::nullopt;
+}
+
+namespace {
+
+Status read_file_bytes(const std::filesystem::path& path, std::string& bytes) {
+    const std::string name = path.string();
+    std::error_code ec;
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(st)) {
+        return Status(Errc::not_found, name + ": no such file");
+    }
+    if (std::filesystem::is_directory(st)) {
+        return Status(Errc::io_error, name + ": is a directory, not a mesh file");
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        return Status(Errc::io_error, name + ": cannot open: " + std::strerror(errno));
+    }
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    in.seekg(0, std::ios::beg);
+    if (size < 0) return Status(Errc::io_error, name + ": cannot tell the file's size");
+    bytes.resize(static_cast<std::size_t>(size));
+    in.read(bytes.data(), size);
+    if (in.gcount() != size) {
+        return Status(Errc::io_error, name + ": read failed after " +
+                                          std::to_string(in.gcount()) + " bytes");
+    }
+    if (bytes.empty()) return Status(Errc::parse_error, name + ": the file is empty");
+    return Status::ok();
+}
+
+}  // namespace
+
+Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view source, Mesh& out,
+                  LoadReport* report) {
+    out = Mesh{};
+    LoadReport local;
+    LoadReport& r = report ? *report : local;
+    r = LoadReport{};
+    try {
+        MeshBuilder builder(r);
+        Status s;
+        switch (format) {
+            case FileFormat::off: s = read_off(bytes, source, builder); break;
+            case FileFormat::obj: s = read_obj(bytes, source, builder); break;
+            case FileFormat::ply: s = read_ply(bytes, source, builder); break;
+        }
+        if (!s) return s;
+        out = builder.take();
+        return Status::ok();
+    } catch (const std::bad_alloc&) {
+        out = Mesh{};
+        return Status(Errc::out_of_memory, std::string(source) + ": out of memory while loading");
+    }
+}
+
+Status load_mesh(const std::filesystem::path& path, Mesh& out, LoadReport* report) {
+    out = Mesh{};
+    try {
+        std::string bytes;
+        if (Status s = read_file_bytes(path, bytes); !s) return s;
+        std::optional<FileFormat> format = format_from_extension(path);
+        if (!format) format = format_from_content(bytes);
+        if (!format) {
+            return Status(Errc::unsupported,
+                          path.string() + ": unknown mesh format (expected .off, .obj or .ply)");
+        }
+        return parse_mesh(bytes, *format, path.string(), out, report);
+    } catch (const std::bad_alloc&) {
+        out = Mesh{};
+        return Status(Errc::out_of_memory, path.string() + ": out of memory while reading");
+    }
+}
+
+}  // namespace dfm::mesh

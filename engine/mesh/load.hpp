@@ -1,0 +1,44 @@
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/status.hpp"
+#include "mesh/mesh.hpp"
+
+namespace dfm::mesh {
+
+enum class FileFormat { off, obj, ply };
+
+const char* format_name(FileFormat format);
+
+// What a load found that was not fatal. Element numbers in messages are
+// 0-based and count in file order; lines are 1-based.
+struct LoadReport {
+    std::size_t polygons = 0;               // faces as the file lists them
+    std::size_t triangulated_polygons = 0;  // polygons of more than three corners, fanned
+    std::size_t dropped_faces = 0;          // triangles dropped for repeating a vertex
+    std::vector<std::string> warnings;      // the first max_warnings, each located
+    std::size_t suppressed_warnings = 0;    // warnings beyond those
+
+    static constexpr std::size_t max_warnings = 20;
+};
+
+// Loads an OFF, OBJ or PLY file. The format comes from the extension, or from
+// the first bytes when the extension says nothing. On failure `out` is left
+// empty and the status names the file, the line (or byte offset) and the
+// element. Never throws.
+Status load_mesh(const std::filesystem::path& path, Mesh& out, LoadReport* report = nullptr);
+
+// Parses a mesh held in memory; `source` names it in messages.
+Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view source, Mesh& out,
+                  LoadReport* report = nullptr);
+
+std::optional<FileFormat> format_from_extension(const std::filesystem::path& path);
+std::optional<FileFormat> format_from_content(std::string_view head);
+
+}  // namespace dfm::mesh

@@ -1,0 +1,54 @@
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "dualform/commands.hpp"
+
+namespace dfm::cli {
+
+int bad_input(std::string_view message) {
+    std::fprintf(stderr, "error: %.*s\n", static_cast<int>(message.size()), message.data());
+    return exit_bad_input;
+}
+
+namespace {
+
+constexpr const char* help_text =
+    "dualform — real-time ROI mesh deformation with the dual Laplacian\n"
+    "\n"
+    "usage: dualform COMMAND [ARGS]\n"
+    "\n"
+    "commands:\n"
+    "  info PATH|model:NAME   print one JSON object describing the mesh\n"
+    "  convert IN OUT         write IN in the format OUT's extension names (.off .obj .ply)\n"
+    "  help                   print this text\n"
+    "\n"
+    "exit codes: 0 success, 2 bad input (error: ... on stderr), 1 the work failed\n"
+    "meshes: OFF, OBJ or PLY files; model:NAME is NAME.off in the model cache\n"
+    "        ($DUALFORM_MODELS, default ~/.cache/dualform/models; tools/fetch-models fills it)\n";
+
+}  // namespace
+
+}  // namespace dfm::cli
+
+int main(int argc, char** argv) {
+    using namespace dfm::cli;
+    try {
+        if (argc < 2) {
+            std::fputs(help_text, stderr);
+            return exit_bad_input;
+        }
+        const std::string_view command = argv[1];
+        const std::vector<std::string_view> args(argv + 2, argv + argc);
+        if (command == "info") return run_info(args);
+        if (command == "convert") return run_convert(args);
+        if (command == "help" || command == "--help" || command == "-h") {
+            std::fputs(help_text, stdout);
+            return exit_ok;
+        }
+        return bad_input("unknown command '" + std::string(command) + "' (try 'dualform help')");
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return exit_failed;
+    }
+}
