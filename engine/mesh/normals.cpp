@@ -1,5 +1,7 @@
 #include "mesh/normals.hpp"
 
+#include <cmath>
+
 #include <glm/geometric.hpp>
 
 namespace dfm::mesh {
@@ -15,7 +17,7 @@ void compute_vertex_normals(const Mesh& mesh, std::span<const glm::dvec3> positi
     }
     for (glm::dvec3& n : normals) {
         const double len = glm::length(n);
-        n = len > 0.0 ? n / len : glm::dvec3(0.0);
+        n = len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
     }
 }
 

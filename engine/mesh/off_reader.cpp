@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -11,8 +12,13 @@ namespace dfm::mesh {
 
 namespace {
 
-constexpr std::uint64_t min_vertex_bytes = 6;  // "0 0 0\n"
-constexpr std::uint64_t min_face_bytes = 8;    // "3 0 1 2\n"
+// A record takes at least a character and a line end. The bound is loose on
+// purpose: it only stops absurd counts, and leaves real mistakes (a short
+// vertex line, a two-vertex face) to the specific messages below.
+constexpr std::uint64_t min_record_bytes = 2;
+// What reserve() may assume a well-formed vertex line takes ("0 0 0\n"), so
+// that what is reserved stays proportional to the file.
+constexpr std::uint64_t typical_vertex_bytes = 6;
 
 Status check_keyword(std::string_view keyword, const Where& where) {
     std::string_view k = keyword;
@@ -82,14 +88,14 @@ Status read_off(std::string_view text, std::string_view source, MeshBuilder& bui
     if (Status s = read_count(counts, "face", counts_at, nf); !s) return s;
 
     const std::uint64_t left = cursor.remaining_bytes();
-    if (nv > left / min_vertex_bytes || nf > left / min_face_bytes ||
-        nv * min_vertex_bytes + nf * min_face_bytes > left + 1) {
+    if (nv > left / min_record_bytes || nf > left / min_record_bytes ||
+        (nv + nf) * min_record_bytes > left + 1) {
         return counts_at.parse_error(
             "the header declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
             " faces, more than the remaining " + std::to_string(left) +
             " bytes can hold (truncated file or wrong counts)");
     }
-    builder.reserve(nv, nf);
+    builder.reserve(std::min(nv, left / typical_vertex_bytes), std::min(nf, left / 8));
 
     for (std::uint64_t i = 0; i < nv; ++i) {
         if (!cursor.next_line(line)) {

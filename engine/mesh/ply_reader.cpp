@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <bit>
 #include <cstring>
 #include <limits>
@@ -130,9 +131,13 @@ public:
           source_(source),
           text_(body, '\0', header.body_first_line) {}
 
-    Where where() const {
-        return encoding_ == Encoding::ascii ? Where::line(source_, text_.line())
-                                            : Where::byte(source_, body_offset_ + pos_);
+    // Where the next value starts.
+    Where where() {
+        if (encoding_ == Encoding::ascii) {
+            text_.skip_blanks();
+            return Where::line(source_, text_.upcoming_line());
+        }
+        return Where::byte(source_, body_offset_ + pos_);
     }
 
     Status read(Scalar type, double& value, std::string_view what) {
@@ -143,21 +148,21 @@ public:
 private:
     Status read_text(Scalar type, double& value, std::string_view what) {
         std::string_view token;
-        if (!text_.next_token(token)) {
-            return where().parse_error(std::string(what) + ": truncated, the file ends here");
-        }
+        const bool found = text_.next_token(token);
+        const Where at = Where::line(source_, text_.line());
+        if (!found) return at.parse_error(std::string(what) + ": truncated, the file ends here");
         if (ply::scalar_is_integer(type)) {
             std::int64_t i = 0;
             if (const NumberError e = parse_integer(token, i); e != NumberError::none) {
-                return where().parse_error(std::string(what) + ": " + quote_token(token) + " is " +
-                                           std::string(describe_number_error(e)));
+                return at.parse_error(std::string(what) + ": " + quote_token(token) + " is " +
+                                      std::string(describe_number_error(e)));
             }
             value = static_cast<double>(i);
             return Status::ok();
         }
         if (const NumberError e = parse_double(token, value); e != NumberError::none) {
-            return where().parse_error(std::string(what) + ": " + quote_token(token) + " is " +
-                                       std::string(describe_number_error(e)));
+            return at.parse_error(std::string(what) + ": " + quote_token(token) + " is " +
+                                  std::string(describe_number_error(e)));
         }
         return Status::ok();
     }
@@ -285,7 +290,10 @@ Status read_ply(std::string_view bytes, std::string_view source, MeshBuilder& bu
         if (plan.is_vertex) vertices = plan.element->count;
         if (plan.is_face) faces = plan.element->count;
     }
-    builder.reserve(vertices, faces);
+    // Only a hint: capped so that what is reserved stays proportional to the
+    // file however the header's counts were made up.
+    builder.reserve(std::min<std::uint64_t>(vertices, body.size() / 6),
+                    std::min<std::uint64_t>(faces, body.size() / 8));
 
     ValueSource in(body, header.body_offset, header, source);
     std::vector<std::int64_t> corners;

@@ -40,7 +40,7 @@ bool TextCursor::next_line(std::string_view& line) {
     return false;
 }
 
-bool TextCursor::next_token(std::string_view& token) {
+void TextCursor::skip_blanks() {
     while (pos_ < text_.size()) {
         const char c = text_[pos_];
         if (c == '\n') {
@@ -51,18 +51,22 @@ bool TextCursor::next_token(std::string_view& token) {
         } else if (comment_ != '\0' && c == comment_) {
             while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
         } else {
-            const std::size_t start = pos_;
-            while (pos_ < text_.size() && !is_space(text_[pos_]) &&
-                   !(comment_ != '\0' && text_[pos_] == comment_)) {
-                ++pos_;
-            }
-            token = text_.substr(start, pos_ - start);
-            line_ = next_line_;
-            return true;
+            return;
         }
     }
+}
+
+bool TextCursor::next_token(std::string_view& token) {
+    skip_blanks();
     line_ = next_line_;
-    return false;
+    if (pos_ == text_.size()) return false;
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && !is_space(text_[pos_]) &&
+           !(comment_ != '\0' && text_[pos_] == comment_)) {
+        ++pos_;
+    }
+    token = text_.substr(start, pos_ - start);
+    return true;
 }
 
 bool Tokens::next(std::string_view& token) {

@@ -24,6 +24,11 @@ public:
     // The next token, crossing line ends and skipping comments.
     bool next_token(std::string_view& token);
 
+    // Steps over blanks and comments; then upcoming_line() is the line of
+    // the next token.
+    void skip_blanks();
+    std::uint64_t upcoming_line() const { return next_line_; }
+
     std::uint64_t line() const { return line_; }
     std::size_t offset() const { return pos_; }
     std::size_t remaining_bytes() const { return text_.size() - pos_; }

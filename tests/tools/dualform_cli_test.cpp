@@ -1,0 +1,124 @@
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include "mesh/load.hpp"
+#include "mesh/model_cache.hpp"
+#include "support/model_variants.hpp"
+#include "support/run_process.hpp"
+#include "support/test_files.hpp"
+
+using dfm::test::run_process;
+
+namespace {
+
+dfm::test::ProcessResult dualform(std::vector<std::string> args) {
+    return run_process(DUALFORM_CLI, args);
+}
+
+// The value of an integer or boolean field in the CLI's one-line JSON.
+std::string field(const std::string& json, const std::string& key) {
+    const std::string k = "\"" + key + "\":";
+    const std::size_t at = json.find(k);
+    if (at == std::string::npos) return "<missing>";
+    const std::size_t start = at + k.size();
+    return json.substr(start, json.find_first_of(",}", start) - start);
+}
+
+void check_info(const std::string& spec, const char* vertices, const char* faces) {
+    CAPTURE(spec);
+    const auto r = dualform({"info", spec});
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.out.front() == '{');
+    CHECK(r.out.back() == '\n');
+    CHECK(r.out.find('\n') == r.out.size() - 1);
+    CHECK(field(r.out, "vertices") == vertices);
+    CHECK(field(r.out, "faces") == faces);
+    CHECK(field(r.out, "boundary_edges") == "0");
+    CHECK(field(r.out, "non_manifold_edges") == "0");
+    CHECK(field(r.out, "components") == "1");
+    CHECK(field(r.out, "closed") == "true");
+    CHECK(field(r.out, "degenerate_faces") == "0");
+    CHECK(field(r.out, "bbox_diagonal") != "<missing>");
+}
+
+}  // namespace
+
+TEST_CASE("dualform info: the real models") {
+    check_info("model:cow", "2904", "5804");
+    check_info("model:dino", "3916", "7828");
+    check_info("model:armadillo", "26002", "52000");
+    const auto r = dualform({"info", "model:cow"});
+    CHECK(field(r.out, "bbox_diagonal").starts_with("1.2170"));
+}
+
+TEST_CASE("dualform info: the cow written as OBJ and PLY variants") {
+    dfm::mesh::Mesh cow;
+    std::filesystem::path path;
+    REQUIRE(dfm::mesh::resolve_mesh_spec("model:cow", {}, path).is_ok());
+    REQUIRE(dfm::mesh::load_mesh(path, cow).is_ok());
+    const auto dir = dfm::test::scratch_dir("cli_cow_variants");
+    for (const auto& f : dfm::test::write_model_variants(cow, dir)) {
+        check_info(f.string(), "2904", "5804");
+    }
+}
+
+TEST_CASE("dualform convert: writes what info reads back") {
+    const auto dir = dfm::test::scratch_dir("cli_convert");
+    for (const char* name : {"cow.off", "cow.obj", "cow.ply"}) {
+        const std::string out = (dir / name).string();
+        const auto c = dualform({"convert", "model:cow", out, "--ply", "binary_big_endian"});
+        CAPTURE(c.err);
+        REQUIRE(c.exit_code == 0);
+        check_info(out, "2904", "5804");
+    }
+}
+
+TEST_CASE("dualform: bad input prints one error line and exits 2") {
+    const auto dir = dfm::test::scratch_dir("cli_errors");
+    dfm::test::write_text(dir / "bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n");
+    struct Case {
+        std::vector<std::string> args;
+        std::string message;
+    };
+    const std::string bad = (dir / "bad.off").string();
+    const Case cases[] = {
+        {{"info", (dir / "missing.off").string()}, "missing.off: no such file"},
+        {{"info", dir.string()}, "is a directory"},
+        {{"info", bad}, bad + ":6: face 0: vertex index 9 is out of range"},
+        {{"info", "model:no-such-model"}, "run tools/fetch-models"},
+        {{"info", "model:../etc"}, "a model name is a plain file name"},
+        {{"info"}, "usage: dualform info"},
+        {{"frobnicate"}, "unknown command 'frobnicate'"},
+        {{"convert", "model:cow", (dir / "x.stl").string()}, "unknown mesh format"},
+        {{"convert", "model:cow", (dir / "x.ply").string(), "--ply", "middle"}, "unknown encoding"},
+    };
+    for (const Case& c : cases) {
+        CAPTURE(c.args[0]);
+        CAPTURE(c.message);
+        const auto r = dualform(c.args);
+        CAPTURE(r.err);
+        CHECK(r.exit_code == 2);
+        CHECK(r.out.empty());
+        CHECK(r.err.rfind("error: ", 0) == 0);
+        CHECK(r.err.find(c.message) != std::string::npos);
+    }
+}
+
+TEST_CASE("dualform: every malformed corpus file is a clean exit 2") {
+    for (const auto& entry :
+         std::filesystem::directory_iterator(dfm::test::data_dir() / "malformed")) {
+        if (entry.path().filename() == "EXPECTED.tsv") continue;
+        CAPTURE(entry.path().string());
+        const auto r = dualform({"info", entry.path().string()});
+        CHECK(r.exit_code == 2);
+        CHECK(r.err.rfind("error: " + entry.path().string(), 0) == 0);
+    }
+}
+
+TEST_CASE("dualform help exits 0 and lists the commands") {
+    const auto r = dualform({"help"});
+    CHECK(r.exit_code == 0);
+    CHECK(r.out.find("info PATH|model:NAME") != std::string::npos);
+}
