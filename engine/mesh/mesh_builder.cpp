@@ -11,9 +11,12 @@ void MeshBuilder::reserve(std::uint64_t vertices, std::uint64_t polygons) {
 
 Status MeshBuilder::add_vertex(const glm::dvec3& p, const Where& where) {
     const std::size_t index = mesh_.positions.size();
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
-        return where.parse_error("vertex " + std::to_string(index) +
-                                 ": coordinate is not a finite number");
+    for (int axis = 0; axis < 3; ++axis) {
+        if (!std::isfinite(p[axis])) {
+            return where.parse_error("vertex " + std::to_string(index) + ": " +
+                                     static_cast<char>('x' + axis) +
+                                     " coordinate is not a finite number");
+        }
     }
     if (index >= no_index) {
         return where.error(Errc::out_of_range, "vertex " + std::to_string(index) +

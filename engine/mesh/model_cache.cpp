@@ -1,5 +1,8 @@
 #include "mesh/model_cache.hpp"
 
+#include <pwd.h>
+#include <unistd.h>
+
 #include <cstdlib>
 #include <string>
 
@@ -10,8 +13,11 @@ std::filesystem::path models_directory() {
         return dir;
     }
     const char* home = std::getenv("HOME");
-    const std::filesystem::path base = home != nullptr && *home != '\0' ? home : ".";
-    return base / ".cache" / "dualform" / "models";
+    if (home == nullptr || *home == '\0') {
+        const passwd* user = getpwuid(getuid());
+        home = user != nullptr ? user->pw_dir : "/tmp";
+    }
+    return std::filesystem::path(home) / ".cache" / "dualform" / "models";
 }
 
 Status resolve_mesh_spec(std::string_view spec, const std::filesystem::path& base,

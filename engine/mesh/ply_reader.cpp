@@ -108,7 +108,7 @@ Status check_declared_sizes(const ply::Header& header, std::string_view source,
     std::uint64_t needed = 0;
     for (const Element& e : header.elements) {
         const std::uint64_t per = min_record_bytes(e, header.encoding);
-        if (per == 0) continue;
+        if (per == 0) continue;  // no properties: its records hold nothing to read
         if (e.count > (available + 1) / per || needed + e.count * per > available + 1) {
             return Where::line(source, e.line)
                 .parse_error("element '" + e.name + "' declares " + std::to_string(e.count) +
@@ -237,6 +237,7 @@ Status read_list_count(ValueSource& in, const Property& p, const std::string& wh
 Status read_element(ValueSource& in, const ElementPlan& plan, MeshBuilder& builder,
                     std::vector<std::int64_t>& corners) {
     const Element& e = *plan.element;
+    if (e.properties.empty()) return Status::ok();
     for (std::uint64_t r = 0; r < e.count; ++r) {
         const Where record_at = in.where();
         const std::string what = e.name + " " + std::to_string(r);

@@ -58,8 +58,14 @@ void TextCursor::skip_blanks() {
 
 bool TextCursor::next_token(std::string_view& token) {
     skip_blanks();
+    if (pos_ == text_.size()) {
+        // At the end, name the last line the text has, not the empty one
+        // after its final line break.
+        const bool ends_with_break = !text_.empty() && text_.back() == '\n';
+        line_ = ends_with_break && next_line_ > 1 ? next_line_ - 1 : next_line_;
+        return false;
+    }
     line_ = next_line_;
-    if (pos_ == text_.size()) return false;
     const std::size_t start = pos_;
     while (pos_ < text_.size() && !is_space(text_[pos_]) &&
            !(comment_ != '\0' && text_[pos_] == comment_)) {

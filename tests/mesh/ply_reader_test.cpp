@@ -132,3 +132,12 @@ TEST_CASE("PLY: bad values in the body") {
     CHECK(parse_fail(head + "0 0 0\n1 0 0\n0 1 0\n-3 0 1 2\n").message() ==
           "t.ply:13: face 0 property 'vertex_indices': list count -3 is negative");
 }
+
+TEST_CASE("PLY: an element without properties holds nothing, whatever its count") {
+    // Once a hang: the reader stepped through 10^12 empty records.
+    const Mesh m = parse_ok(
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement junk 999999999999\nend_header\n0 0 0\n1 0 0\n0 1 0\n");
+    CHECK(m.vertex_count() == 3);
+    CHECK(m.face_count() == 0);
+}
