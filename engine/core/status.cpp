@@ -12,6 +12,7 @@ const char* errc_name(Errc code) {
         case Errc::out_of_range: return "out of range";
         case Errc::unsupported: return "unsupported";
         case Errc::out_of_memory: return "out of memory";
+        case Errc::numerical: return "numerical failure";
     }
     return "unknown error";
 }

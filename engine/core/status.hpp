@@ -15,6 +15,7 @@ enum class Errc {
     out_of_range,
     unsupported,
     out_of_memory,
+    numerical,
 };
 
 const char* errc_name(Errc code);
