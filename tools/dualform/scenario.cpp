@@ -1,0 +1,561 @@
+#include "dualform/scenario.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <initializer_list>
+#include <new>
+#include <system_error>
+#include <unordered_map>
+#include <utility>
+
+#include <glm/geometric.hpp>
+
+#include "core/number_text.hpp"
+#include "dualform/json_reader.hpp"
+
+// Every field the format does not define is an error, so that a misspelt
+// optional field ("tolerence") cannot silently fall back to a default. The
+// one exception is a top-level "description" or "comment" string, room for
+// the note a shared scenario needs.
+namespace dfm::cli {
+
+namespace {
+
+using Names = std::initializer_list<std::string_view>;
+
+// 2^32 - 1 is the engine's "no vertex", so indices stop one short of it.
+constexpr double max_vertex_index = 4294967294.0;
+
+// A field of the document: its value (nullptr when the field is missing),
+// where to point at (the value, or the enclosing object when missing) and
+// its path from the top ("handles[1].rotate").
+struct Field {
+    const JsonValue* value = nullptr;
+    JsonPosition at;
+    std::string path;
+};
+
+std::string member_path(const Field& object, std::string_view key) {
+    std::string path = object.path;
+    if (!path.empty()) path += '.';
+    path += json_printable(key);
+    return path;
+}
+
+Field member(const Field& object, std::string_view key) {
+    Field f;
+    f.path = member_path(object, key);
+    const JsonMember* m = object.value->find(key);
+    f.value = m ? &m->value : nullptr;
+    f.at = m ? m->value.at : object.at;
+    return f;
+}
+
+Field item(const Field& array, std::size_t index) {
+    Field f;
+    f.value = &array.value->items[index];
+    f.at = f.value->at;
+    f.path = array.path;
+    f.path += '[';
+    f.path += std::to_string(index);
+    f.path += ']';
+    return f;
+}
+
+std::string join(Names names, std::string_view last_separator) {
+    std::string out;
+    std::size_t i = 0;
+    for (const std::string_view name : names) {
+        if (i > 0) out += i + 1 == names.size() ? last_separator : ", ";
+        out += name;
+        ++i;
+    }
+    return out;
+}
+
+std::string number_text(double v, bool written_as_integer) {
+    std::string out;
+    append_number(out, v);
+    // "1.0" or "1e2" must not read back as the integer they equal.
+    if (!written_as_integer && out.find_first_of(".e") == std::string::npos) out += ".0";
+    return out;
+}
+
+// What a value is, for "found ..."; scalars show themselves.
+std::string describe(const JsonValue& v) {
+    switch (v.type) {
+        case JsonType::boolean: return v.boolean ? "true" : "false";
+        case JsonType::number: return number_text(v.number, v.integer);
+        case JsonType::array: {
+            if (v.items.empty()) return "an empty array";
+            std::string out = "an array of ";
+            out += std::to_string(v.items.size());
+            out += v.items.size() == 1 ? " value" : " values";
+            return out;
+        }
+        case JsonType::null:
+        case JsonType::string:
+        case JsonType::object: break;
+    }
+    return json_type_phrase(v.type);
+}
+
+// Whether `a` and `b` are parallel or either is zero, measured on copies
+// scaled to a largest component of 1 so that no product overflows.
+bool parallel(glm::dvec3 a, glm::dvec3 b) {
+    const auto scaled = [](glm::dvec3 v) {
+        const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+        return m > 0.0 ? v / m : v;
+    };
+    a = scaled(a);
+    b = scaled(b);
+    return glm::length(glm::cross(a, b)) <= 1e-9 * glm::length(a) * glm::length(b);
+}
+
+class ScenarioReader {
+public:
+    explicit ScenarioReader(std::string_view source) : source_(source) {}
+
+    Status scenario(const JsonValue& root, Scenario& out) const {
+        const Field top{&root, root.at, ""};
+        if (Status s = object(top, {"mesh", "subdivide", "roi", "handles", "solver",
+                                    "description", "comment"});
+            !s) {
+            return s;
+        }
+        for (const std::string_view note : {"description", "comment"}) {
+            const Field f = member(top, note);
+            if (f.value && f.value->type != JsonType::string) return expected(f, "a string");
+        }
+        if (Status s = mesh(member(top, "mesh"), out.mesh); !s) return s;
+        if (const Field f = member(top, "subdivide"); f.value) {
+            const auto accept = [](const JsonValue& v) {
+                return v.integer && v.number >= 0.0 && v.number <= max_subdivisions;
+            };
+            double v = 0.0;
+            if (Status s = number(f, "an integer from 0 to 3", accept, v); !s) return s;
+            out.subdivide = static_cast<int>(v);
+        }
+        if (Status s = roi(member(top, "roi"), out.roi); !s) return s;
+        if (Status s = handles(member(top, "handles"), out.handles); !s) return s;
+        const Field solver_field = member(top, "solver");
+        if (!solver_field.value) return Status::ok();
+        return solver(solver_field, out.solver);
+    }
+
+private:
+    Status error(const Field& f, std::string_view what) const { return error(f.at, f.path, what); }
+    Status error(JsonPosition at, std::string_view path, std::string_view what) const {
+        std::string message = json_location(source_, at);
+        if (!path.empty()) {
+            message += path;
+            message += ": ";
+        }
+        message += what;
+        return Status(Errc::parse_error, std::move(message));
+    }
+
+    Status expected(const Field& f, std::string_view what) const {
+        std::string message = "expected ";
+        message += what;
+        message += ", found ";
+        message += describe(*f.value);
+        return error(f, message);
+    }
+
+    // The field is present and of `type`; `what` names what it should be.
+    Status typed(const Field& f, JsonType type, std::string_view what) const {
+        if (!f.value) return error(f, "required field is missing");
+        if (f.value->type != type) return expected(f, what);
+        return Status::ok();
+    }
+
+    // The field is an object whose every member is among `known`.
+    Status object(const Field& f, Names known) const {
+        if (Status s = typed(f, JsonType::object, "an object"); !s) return s;
+        for (const JsonMember& m : f.value->members) {
+            if (std::find(known.begin(), known.end(), m.key) != known.end()) continue;
+            std::string what = "unknown field (expected ";
+            what += join(known, " or ");
+            what += ')';
+            return error(m.at, member_path(f, m.key), what);
+        }
+        return Status::ok();
+    }
+
+    // Exactly one of `names` is a member of the object `f`; `kind` says
+    // what they are ("ROI kind").
+    Status exactly_one(const Field& f, Names names, std::string_view kind,
+                       const JsonMember*& out) const {
+        out = nullptr;
+        for (const JsonMember& m : f.value->members) {
+            if (std::find(names.begin(), names.end(), m.key) == names.end()) continue;
+            if (out) {
+                std::string what = "only one ";
+                what += kind;
+                what += " is allowed, and ";
+                what += out->key;
+                what += " is already given";
+                return error(m.at, member_path(f, m.key), what);
+            }
+            out = &m;
+        }
+        if (out) return Status::ok();
+        std::string what = "expected one ";
+        what += kind;
+        what += " (";
+        what += join(names, " or ");
+        what += "), found none";
+        return error(f, what);
+    }
+
+    // A number that `accept` takes; `what` describes such numbers.
+    template <typename Accept>
+    Status number(const Field& f, std::string_view what, Accept accept, double& out) const {
+        if (Status s = typed(f, JsonType::number, what); !s) return s;
+        if (!accept(*f.value)) return expected(f, what);
+        out = f.value->number;
+        return Status::ok();
+    }
+
+    Status number(const Field& f, double& out) const {
+        return number(
+            f, "a number", [](const JsonValue&) { return true; }, out);
+    }
+
+    Status positive(const Field& f, double& out) const {
+        return number(
+            f, "a number greater than 0", [](const JsonValue& v) { return v.number > 0.0; }, out);
+    }
+
+    // An integer from 1 to `max`, written without fraction or exponent.
+    Status count(const Field& f, double max, double& out) const {
+        std::string what = "a positive integer (at most ";
+        what += number_text(max, true);
+        what += ')';
+        const auto accept = [max](const JsonValue& v) {
+            return v.integer && v.number >= 1.0 && v.number <= max;
+        };
+        return number(f, what, accept, out);
+    }
+
+    Status index(const Field& f, std::uint32_t& out) const {
+        const auto accept = [](const JsonValue& v) {
+            return v.integer && v.number >= 0.0 && v.number <= max_vertex_index;
+        };
+        double v = 0.0;
+        if (Status s = number(f, "a vertex index (an integer from 0 to 4294967294)", accept, v);
+            !s) {
+            return s;
+        }
+        out = static_cast<std::uint32_t>(v);
+        return Status::ok();
+    }
+
+    // A non-empty list of distinct vertex indices.
+    Status index_list(const Field& f, std::vector<std::uint32_t>& out) const {
+        if (Status s = typed(f, JsonType::array, "an array of vertex indices"); !s) return s;
+        if (f.value->items.empty()) return expected(f, "at least one vertex index");
+        const std::size_t n = f.value->items.size();
+        out.resize(n);
+        std::unordered_map<std::uint32_t, std::size_t> first_seen;
+        first_seen.reserve(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const Field e = item(f, i);
+            if (Status s = index(e, out[i]); !s) return s;
+            const auto [it, fresh] = first_seen.emplace(out[i], i);
+            if (!fresh) {
+                std::string what = "vertex ";
+                what += std::to_string(out[i]);
+                what += " is listed twice (first at [";
+                what += std::to_string(it->second);
+                what += "])";
+                return error(e, what);
+            }
+        }
+        return Status::ok();
+    }
+
+    template <glm::length_t L>
+    Status vec(const Field& f, glm::vec<L, double>& out) const {
+        const char* what =
+            L == 2 ? "an array of 2 numbers [x, y]" : "an array of 3 numbers [x, y, z]";
+        if (Status s = typed(f, JsonType::array, what); !s) return s;
+        if (f.value->items.size() != static_cast<std::size_t>(L)) return expected(f, what);
+        for (glm::length_t i = 0; i < L; ++i) {
+            if (Status s = number(item(f, static_cast<std::size_t>(i)), out[i]); !s) return s;
+        }
+        return Status::ok();
+    }
+
+    Status mesh(const Field& f, std::string& out) const {
+        if (Status s = typed(f, JsonType::string, "a string (a mesh file path or model:NAME)");
+            !s) {
+            return s;
+        }
+        out = f.value->text;
+        if (out.empty()) return error(f, "expected a mesh file path or model:NAME, found \"\"");
+        if (out == "model:") return error(f, "expected a model name after \"model:\"");
+        if (out.find('\0') != std::string::npos) {
+            return error(f, "a mesh path cannot contain a NUL character");
+        }
+        return Status::ok();
+    }
+
+    Status roi(const Field& f, RoiSpec& out) const {
+        const Names kinds = {"water_fill", "water_fill_clicks", "ball", "vertices", "all"};
+        if (Status s = object(f, kinds); !s) return s;
+        const JsonMember* kind = nullptr;
+        if (Status s = exactly_one(f, kinds, "ROI kind", kind); !s) return s;
+        const Field k = member(f, kind->key);
+        if (kind->key == "water_fill") {
+            out.kind = RoiSpec::Kind::water_fill;
+            return water_fill(k, out);
+        }
+        if (kind->key == "water_fill_clicks") {
+            out.kind = RoiSpec::Kind::water_fill_clicks;
+            return water_fill_clicks(k, out);
+        }
+        if (kind->key == "ball") {
+            out.kind = RoiSpec::Kind::ball;
+            return ball(k, out.ball);
+        }
+        if (kind->key == "vertices") {
+            out.kind = RoiSpec::Kind::vertices;
+            return index_list(k, out.vertices);
+        }
+        out.kind = RoiSpec::Kind::all;
+        if (k.value->type != JsonType::boolean || !k.value->boolean) return expected(k, "true");
+        return Status::ok();
+    }
+
+    Status water_fill(const Field& f, RoiSpec& out) const {
+        if (Status s = object(f, {"first", "last"}); !s) return s;
+        if (Status s = index(member(f, "first"), out.first); !s) return s;
+        const Field last = member(f, "last");
+        if (Status s = index(last, out.last); !s) return s;
+        // The cut plane's normal is the direction from first to last.
+        if (out.last == out.first) return error(last, "must differ from first");
+        return Status::ok();
+    }
+
+    Status water_fill_clicks(const Field& f, RoiSpec& out) const {
+        if (Status s = object(f, {"camera", "first", "last"}); !s) return s;
+        if (Status s = camera(member(f, "camera"), out.camera); !s) return s;
+        if (Status s = pixel(member(f, "first"), out.camera, out.first_pixel); !s) return s;
+        return pixel(member(f, "last"), out.camera, out.last_pixel);
+    }
+
+    Status pixel(const Field& f, const ScenarioCamera& camera, glm::dvec2& out) const {
+        if (Status s = vec(f, out); !s) return s;
+        const double w = camera.width;
+        const double h = camera.height;
+        if (out.x < 0.0 || out.x > w || out.y < 0.0 || out.y > h) {
+            std::string what = "the pixel lies outside the image, which runs from [0, 0] to [";
+            what += number_text(w, true);
+            what += ", ";
+            what += number_text(h, true);
+            what += ']';
+            return error(f, what);
+        }
+        return Status::ok();
+    }
+
+    Status camera(const Field& f, ScenarioCamera& out) const {
+        if (Status s = object(f, {"eye", "target", "up", "fov_y_degrees", "width", "height"}); !s) {
+            return s;
+        }
+        if (Status s = vec(member(f, "eye"), out.eye); !s) return s;
+        const Field target = member(f, "target");
+        if (Status s = vec(target, out.target); !s) return s;
+        if (out.target == out.eye) return error(target, "must differ from eye");
+        const Field up = member(f, "up");
+        if (Status s = vec(up, out.up); !s) return s;
+        if (parallel(out.up, out.target - out.eye)) {
+            return error(up,
+                         "must be non-zero and not parallel to the view direction (target - eye)");
+        }
+        const auto opening = [](const JsonValue& v) { return v.number > 0.0 && v.number < 180.0; };
+        if (Status s = number(member(f, "fov_y_degrees"),
+                              "an angle in degrees between 0 and 180, both excluded", opening,
+                              out.fov_y_degrees);
+            !s) {
+            return s;
+        }
+        double width = 0.0;
+        double height = 0.0;
+        if (Status s = count(member(f, "width"), UINT32_MAX, width); !s) return s;
+        if (Status s = count(member(f, "height"), UINT32_MAX, height); !s) return s;
+        out.width = static_cast<std::uint32_t>(width);
+        out.height = static_cast<std::uint32_t>(height);
+        return Status::ok();
+    }
+
+    Status ball(const Field& f, BallSelection& out) const {
+        if (Status s = object(f, {"center", "radius"}); !s) return s;
+        if (Status s = index(member(f, "center"), out.center); !s) return s;
+        return positive(member(f, "radius"), out.radius);
+    }
+
+    Status handles(const Field& f, std::vector<HandleSpec>& out) const {
+        if (Status s = typed(f, JsonType::array, "an array of handle groups"); !s) return s;
+        if (f.value->items.empty()) return expected(f, "at least one handle group");
+        out.resize(f.value->items.size());
+        for (std::size_t i = 0; i < out.size(); ++i) {
+            if (Status s = handle(item(f, i), out[i]); !s) return s;
+        }
+        return Status::ok();
+    }
+
+    Status handle(const Field& f, HandleSpec& out) const {
+        if (Status s = object(f, {"vertices", "ball", "translate", "rotate", "targets"}); !s) {
+            return s;
+        }
+        const JsonMember* selection = nullptr;
+        if (Status s = exactly_one(f, {"vertices", "ball"}, "selection", selection); !s) return s;
+        if (selection->key == "ball") {
+            if (Status s = ball(member(f, "ball"), out.ball.emplace()); !s) return s;
+        } else if (Status s = index_list(member(f, "vertices"), out.vertices); !s) {
+            return s;
+        }
+        if (const Field t = member(f, "translate"); t.value) {
+            if (Status s = vec(t, out.translate.emplace()); !s) return s;
+        }
+        if (const Field r = member(f, "rotate"); r.value) {
+            if (Status s = rotate(r, out.rotate.emplace()); !s) return s;
+        }
+        const Field targets_field = member(f, "targets");
+        if (!targets_field.value) return Status::ok();
+        if (out.ball) {
+            return error(targets_field,
+                         "needs a vertices list (one target per vertex), not a ball");
+        }
+        // Absolute positions leave nothing for a relative motion to do.
+        if (out.translate || out.rotate) {
+            return error(targets_field, "cannot be combined with translate or rotate");
+        }
+        return targets(targets_field, out.vertices.size(), out.targets);
+    }
+
+    Status rotate(const Field& f, RotateSpec& out) const {
+        if (Status s = object(f, {"axis", "degrees", "pivot"}); !s) return s;
+        const Field axis = member(f, "axis");
+        if (Status s = vec(axis, out.axis); !s) return s;
+        if (out.axis == glm::dvec3(0.0)) return error(axis, "must not be the zero vector");
+        if (Status s = number(member(f, "degrees"), out.degrees); !s) return s;
+        const Field pivot = member(f, "pivot");
+        if (!pivot.value) return Status::ok();
+        if (pivot.value->type == JsonType::string) {
+            if (pivot.value->text == "centroid") return Status::ok();
+            std::string what = "expected [x, y, z] or \"centroid\", found \"";
+            what += json_printable(pivot.value->text);
+            what += '"';
+            return error(pivot, what);
+        }
+        if (pivot.value->type != JsonType::array) {
+            return expected(pivot, "[x, y, z] or \"centroid\"");
+        }
+        out.pivot_is_centroid = false;
+        return vec(pivot, out.pivot);
+    }
+
+    Status targets(const Field& f, std::size_t n, std::vector<glm::dvec3>& out) const {
+        if (Status s = typed(f, JsonType::array, "an array of [x, y, z] targets"); !s) return s;
+        if (f.value->items.size() != n) {
+            std::string what = std::to_string(n);
+            what += n == 1 ? " target, one per vertex" : " targets, one per vertex";
+            return expected(f, what);
+        }
+        out.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            if (Status s = vec(item(f, i), out[i]); !s) return s;
+        }
+        return Status::ok();
+    }
+
+    Status solver(const Field& f, SolverSpec& out) const {
+        if (Status s = object(f, {"tolerance", "max_iterations", "handle_weight"}); !s) return s;
+        if (const Field t = member(f, "tolerance"); t.value) {
+            if (Status s = positive(t, out.tolerance.emplace()); !s) return s;
+        }
+        if (const Field m = member(f, "max_iterations"); m.value) {
+            double v = 0.0;
+            if (Status s = count(m, INT_MAX, v); !s) return s;
+            out.max_iterations = static_cast<int>(v);
+        }
+        if (const Field w = member(f, "handle_weight"); w.value) {
+            if (Status s = positive(w, out.handle_weight.emplace()); !s) return s;
+        }
+        return Status::ok();
+    }
+
+    std::string_view source_;
+};
+
+Status out_of_memory(std::string_view source) {
+    std::string message(source);
+    message += ": out of memory while reading the scenario";
+    return Status(Errc::out_of_memory, std::move(message));
+}
+
+Status read_scenario_file(const std::filesystem::path& path, std::string& text) {
+    const std::string name = path.string();
+    std::error_code ec;
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (st.type() == std::filesystem::file_type::not_found) {
+        return Status(Errc::not_found, name + ": no such scenario file");
+    }
+    if (ec) return Status(Errc::io_error, name + ": cannot access: " + ec.message());
+    if (std::filesystem::is_directory(st)) {
+        return Status(Errc::io_error, name + ": is a directory, not a scenario file");
+    }
+    // A device or pipe could feed bytes forever.
+    if (!std::filesystem::is_regular_file(st)) {
+        return Status(Errc::io_error, name + ": is not a regular file");
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return Status(Errc::io_error, name + ": cannot open: " + std::strerror(errno));
+    char buffer[1 << 16];
+    while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+        text.append(buffer, static_cast<std::size_t>(in.gcount()));
+    }
+    if (in.bad()) return Status(Errc::io_error, name + ": read failed");
+    return Status::ok();
+}
+
+}  // namespace
+
+Status parse_scenario(std::string_view text, std::string_view source, Scenario& out) {
+    out = Scenario{};
+    try {
+        JsonValue root;
+        if (Status s = parse_json(text, source, root); !s) return s;
+        Scenario scenario;
+        if (Status s = ScenarioReader(source).scenario(root, scenario); !s) return s;
+        out = std::move(scenario);
+        return Status::ok();
+    } catch (const std::bad_alloc&) {
+        return out_of_memory(source);
+    }
+}
+
+Status load_scenario(const std::filesystem::path& path, Scenario& out) {
+    out = Scenario{};
+    try {
+        std::string text;
+        if (Status s = read_scenario_file(path, text); !s) return s;
+        Scenario scenario;
+        if (Status s = parse_scenario(text, path.string(), scenario); !s) return s;
+        scenario.base_dir = path.parent_path();
+        out = std::move(scenario);
+        return Status::ok();
+    } catch (const std::bad_alloc&) {
+        return out_of_memory(path.string());
+    }
+}
+
+}  // namespace dfm::cli
