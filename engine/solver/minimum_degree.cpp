@@ -1,0 +1,434 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "solver/ordering.hpp"
+
+namespace dfm::solver {
+
+namespace {
+
+using Index = std::int64_t;
+
+constexpr Index none = -1;
+
+// A reference to object j stored where a list pointer would be: "absorbed
+// into j" for variables and elements, -1 ("root") for none.
+constexpr Index flip(Index j) { return -j - 2; }
+
+// Approximate minimum degree on the quotient graph (Amestoy, Davis and Duff,
+// SIAM J. Matrix Anal. Appl. 17(4), 1996). Variables are the graph's
+// vertices; eliminating a pivot turns it into an element whose variable list
+// stands for the clique it creates. Each variable's list in `memory_` holds
+// first its adjacent elements (elen_ of them), then its adjacent variables.
+// Index n is an extra element that collects dense rows, ordered last.
+class MinimumDegree {
+public:
+    MinimumDegree(const SymmetricGraph& graph, std::span<const std::uint32_t> constraints)
+        : n_(static_cast<Index>(graph.size())),
+          constraints_(constraints),
+          pointer_(static_cast<std::size_t>(n_) + 1),
+          length_(static_cast<std::size_t>(n_) + 1, 0),
+          size_(static_cast<std::size_t>(n_) + 1, 1),
+          next_(static_cast<std::size_t>(n_) + 1, none),
+          last_(static_cast<std::size_t>(n_) + 1, none),
+          head_(static_cast<std::size_t>(n_) + 1, none),
+          elements_(static_cast<std::size_t>(n_) + 1, 0),
+          degree_(static_cast<std::size_t>(n_) + 1, 0),
+          w_(static_cast<std::size_t>(n_) + 1, 1),
+          hash_head_(static_cast<std::size_t>(n_) + 1, none) {
+        const std::size_t edges = graph.neighbors.size();
+        // Elbow room so that new elements rarely force a compaction.
+        memory_.resize(edges + edges / 5 + 2 * static_cast<std::size_t>(n_) + 1);
+        for (Index i = 0; i < n_; ++i) {
+            pointer_[at(i)] = static_cast<Index>(graph.offsets[at(i)]);
+            length_[at(i)] = static_cast<Index>(graph.degree(static_cast<std::uint32_t>(i)));
+            degree_[at(i)] = length_[at(i)];
+        }
+        for (std::size_t p = 0; p < edges; ++p) memory_[p] = graph.neighbors[p];
+        used_ = static_cast<Index>(edges);
+        dense_ = std::min(n_ - 2, std::max<Index>(16, static_cast<Index>(10.0 * std::sqrt(static_cast<double>(n_)))));
+        if (!constraints_.empty()) {
+            // The variables of each constraint set, in CSR form.
+            std::uint32_t sets = 0;
+            for (const std::uint32_t c : constraints_) sets = std::max(sets, c + 1);
+            set_begin_.assign(sets + 1, 0);
+            for (const std::uint32_t c : constraints_) ++set_begin_[c + 1];
+            for (std::uint32_t c = 0; c < sets; ++c) set_begin_[c + 1] += set_begin_[c];
+            set_members_.resize(constraints_.size());
+            std::vector<std::size_t> fill(set_begin_.begin(), set_begin_.end() - 1);
+            for (std::size_t i = 0; i < constraints_.size(); ++i)
+                set_members_[fill[constraints_[i]]++] = static_cast<Index>(i);
+            while (current_set_ + 1 < sets && set_begin_[current_set_ + 1] == 0) ++current_set_;
+        }
+    }
+
+    std::vector<std::uint32_t> run() {
+        if (n_ == 0) return {};
+        mark_ = clear_marks(0, 0);
+        elements_[at(n_)] = -2;
+        pointer_[at(n_)] = none;
+        w_[at(n_)] = 0;
+        for (Index i = 0; i < n_; ++i) {
+            const Index d = degree_[at(i)];
+            if (d == 0) {
+                elements_[at(i)] = -2;  // an empty variable is an element at once
+                ++eliminated_;
+                pointer_[at(i)] = none;
+                w_[at(i)] = 0;
+            } else if (d > dense_) {
+                size_[at(i)] = 0;  // dense: absorbed into element n
+                elements_[at(i)] = -1;
+                ++eliminated_;
+                pointer_[at(i)] = flip(n_);
+                ++size_[at(n_)];
+            } else if (selectable(i)) {
+                insert_degree_list(i, d);
+            }
+        }
+        while (eliminated_ < n_) eliminate(select_pivot());
+        return postorder();
+    }
+
+private:
+    static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
+
+    // Only the variables of the current constraint set may be pivots; the
+    // degree lists hold just those.
+    bool selectable(Index i) const {
+        return constraints_.empty() || constraints_[at(i)] == current_set_;
+    }
+
+    bool same_set(Index i, Index j) const {
+        return constraints_.empty() || constraints_[at(i)] == constraints_[at(j)];
+    }
+
+    // Moves on to the next constraint set that still has live variables and
+    // puts those in the degree lists.
+    void open_next_set() {
+        const std::uint32_t sets = static_cast<std::uint32_t>(set_begin_.size() - 1);
+        min_degree_ = n_;
+        while (min_degree_ == n_ && current_set_ + 1 < sets) {
+            ++current_set_;
+            for (std::size_t p = set_begin_[current_set_]; p < set_begin_[current_set_ + 1]; ++p) {
+                const Index i = set_members_[p];
+                if (size_[at(i)] <= 0 || elements_[at(i)] < 0) continue;
+                insert_degree_list(i, degree_[at(i)]);
+                min_degree_ = std::min(min_degree_, degree_[at(i)]);
+            }
+        }
+    }
+
+    void insert_degree_list(Index i, Index d) {
+        if (head_[at(d)] != none) last_[at(head_[at(d)])] = i;
+        next_[at(i)] = head_[at(d)];
+        last_[at(i)] = none;
+        head_[at(d)] = i;
+    }
+
+    void remove_degree_list(Index i) {
+        if (next_[at(i)] != none) last_[at(next_[at(i)])] = last_[at(i)];
+        if (last_[at(i)] != none) {
+            next_[at(last_[at(i)])] = next_[at(i)];
+        } else {
+            head_[at(degree_[at(i)])] = next_[at(i)];
+        }
+    }
+
+    // Marks in w_ are "stamps above mark_"; renumbers them when mark_ would
+    // overflow, and returns the mark to use next.
+    Index clear_marks(Index mark, Index largest) {
+        if (mark < 2 || mark + largest < 0) {
+            for (Index k = 0; k < n_; ++k)
+                if (w_[at(k)] != 0) w_[at(k)] = 1;
+            mark = 2;
+        }
+        return mark;
+    }
+
+    Index select_pivot() {
+        Index k = none;
+        while (min_degree_ < n_ && (k = head_[at(min_degree_)]) == none) ++min_degree_;
+        if (k == none) {
+            open_next_set();
+            while ((k = head_[at(min_degree_)]) == none) ++min_degree_;
+        }
+        if (next_[at(k)] != none) last_[at(next_[at(k)])] = none;
+        head_[at(min_degree_)] = next_[at(k)];
+        return k;
+    }
+
+    // Packs every live list to the front of memory_.
+    void compact() {
+        for (Index j = 0; j < n_; ++j) {
+            const Index p = pointer_[at(j)];
+            if (p < 0) continue;
+            pointer_[at(j)] = memory_[at(p)];  // first entry kept aside
+            memory_[at(p)] = flip(j);          // list start tagged with its owner
+        }
+        Index q = 0;
+        for (Index p = 0; p < used_;) {
+            const Index j = flip(memory_[at(p++)]);
+            if (j < 0) continue;
+            memory_[at(q)] = pointer_[at(j)];
+            pointer_[at(j)] = q++;
+            for (Index t = 0; t < length_[at(j)] - 1; ++t) memory_[at(q++)] = memory_[at(p++)];
+        }
+        used_ = q;
+    }
+
+    void eliminate(Index k) {
+        const Index k_elements = elements_[at(k)];
+        Index k_size = size_[at(k)];
+        eliminated_ += k_size;
+        if (k_elements > 0 && used_ + min_degree_ >= static_cast<Index>(memory_.size())) compact();
+
+        // The new element's variables: k's own plus those of the elements
+        // adjacent to k, which k absorbs. Members are flagged by a negated
+        // size and leave the degree lists.
+        Index degree_k = 0;
+        size_[at(k)] = -k_size;
+        Index p = pointer_[at(k)];
+        const Index lk_begin = k_elements == 0 ? p : used_;
+        Index lk_end = lk_begin;
+        for (Index source = 1; source <= k_elements + 1; ++source) {
+            Index e;
+            Index pj;
+            Index count;
+            if (source > k_elements) {
+                e = k;
+                pj = p;
+                count = length_[at(k)] - k_elements;
+            } else {
+                e = memory_[at(p++)];
+                pj = pointer_[at(e)];
+                count = length_[at(e)];
+            }
+            for (Index t = 0; t < count; ++t) {
+                const Index i = memory_[at(pj++)];
+                const Index size_i = size_[at(i)];
+                if (size_i <= 0) continue;
+                degree_k += size_i;
+                size_[at(i)] = -size_i;
+                memory_[at(lk_end++)] = i;
+                if (selectable(i)) remove_degree_list(i);
+            }
+            if (e != k) {
+                pointer_[at(e)] = flip(k);
+                w_[at(e)] = 0;
+            }
+        }
+        if (k_elements != 0) used_ = lk_end;
+        degree_[at(k)] = degree_k;
+        pointer_[at(k)] = lk_begin;
+        length_[at(k)] = lk_end - lk_begin;
+        elements_[at(k)] = -2;
+
+        // |Le \ Lk| for every element e adjacent to a variable of Lk, as
+        // w_[e] − mark_.
+        mark_ = clear_marks(mark_, largest_element_);
+        for (Index pk = lk_begin; pk < lk_end; ++pk) {
+            const Index i = memory_[at(pk)];
+            const Index i_elements = elements_[at(i)];
+            if (i_elements <= 0) continue;
+            const Index size_i = -size_[at(i)];
+            const Index first_visit = mark_ - size_i;
+            for (Index q = pointer_[at(i)]; q < pointer_[at(i)] + i_elements; ++q) {
+                const Index e = memory_[at(q)];
+                if (w_[at(e)] >= mark_) {
+                    w_[at(e)] -= size_i;
+                } else if (w_[at(e)] != 0) {
+                    w_[at(e)] = degree_[at(e)] + first_visit;
+                }
+            }
+        }
+
+        // Approximate degrees; elements inside Lk are absorbed (aggressive
+        // absorption), variables left with nothing outside are eliminated
+        // with k (mass elimination), the rest hashed for supervariables.
+        for (Index pk = lk_begin; pk < lk_end; ++pk) {
+            const Index i = memory_[at(pk)];
+            const Index p1 = pointer_[at(i)];
+            const Index p2 = p1 + elements_[at(i)] - 1;
+            Index pn = p1;
+            Index d = 0;
+            std::uint64_t hash = 0;
+            for (Index q = p1; q <= p2; ++q) {
+                const Index e = memory_[at(q)];
+                if (w_[at(e)] == 0) continue;
+                const Index outside = w_[at(e)] - mark_;
+                if (outside > 0) {
+                    d += outside;
+                    memory_[at(pn++)] = e;
+                    hash += static_cast<std::uint64_t>(e);
+                } else {
+                    pointer_[at(e)] = flip(k);
+                    w_[at(e)] = 0;
+                }
+            }
+            elements_[at(i)] = pn - p1 + 1;
+            const Index p3 = pn;
+            const Index p4 = p1 + length_[at(i)];
+            for (Index q = p2 + 1; q < p4; ++q) {
+                const Index j = memory_[at(q)];
+                const Index size_j = size_[at(j)];
+                if (size_j <= 0) continue;
+                d += size_j;
+                memory_[at(pn++)] = j;
+                hash += static_cast<std::uint64_t>(j);
+            }
+            if (d == 0 && same_set(i, k)) {
+                pointer_[at(i)] = flip(k);
+                const Index size_i = -size_[at(i)];
+                degree_k -= size_i;
+                k_size += size_i;
+                eliminated_ += size_i;
+                size_[at(i)] = 0;
+                elements_[at(i)] = -1;
+            } else {
+                degree_[at(i)] = std::min(degree_[at(i)], d);
+                // k becomes i's first element.
+                memory_[at(pn)] = memory_[at(p3)];
+                memory_[at(p3)] = memory_[at(p1)];
+                memory_[at(p1)] = k;
+                length_[at(i)] = pn - p1 + 1;
+                const Index bucket = static_cast<Index>(hash % static_cast<std::uint64_t>(n_));
+                next_[at(i)] = hash_head_[at(bucket)];
+                hash_head_[at(bucket)] = i;
+                last_[at(i)] = bucket;
+            }
+        }
+        degree_[at(k)] = degree_k;
+        largest_element_ = std::max(largest_element_, degree_k);
+        mark_ = clear_marks(mark_ + largest_element_, largest_element_);
+
+        detect_supervariables(lk_begin, lk_end);
+
+        // Back into the degree lists with their external degrees.
+        Index write = lk_begin;
+        for (Index pk = lk_begin; pk < lk_end; ++pk) {
+            const Index i = memory_[at(pk)];
+            const Index size_i = -size_[at(i)];
+            if (size_i <= 0) continue;
+            size_[at(i)] = size_i;
+            Index d = degree_[at(i)] + degree_k - size_i;
+            d = std::min(d, n_ - eliminated_ - size_i);
+            degree_[at(i)] = d;
+            if (selectable(i)) {
+                insert_degree_list(i, d);
+                min_degree_ = std::min(min_degree_, d);
+            }
+            memory_[at(write++)] = i;
+        }
+        size_[at(k)] = k_size;
+        length_[at(k)] = write - lk_begin;
+        if (length_[at(k)] == 0) {
+            pointer_[at(k)] = none;
+            w_[at(k)] = 0;
+        }
+        if (k_elements != 0) used_ = write;
+    }
+
+    // Variables of Lk with identical lists (same hash first) are merged into
+    // one supervariable.
+    void detect_supervariables(Index lk_begin, Index lk_end) {
+        for (Index pk = lk_begin; pk < lk_end; ++pk) {
+            Index i = memory_[at(pk)];
+            if (size_[at(i)] >= 0) continue;
+            const Index bucket = last_[at(i)];
+            i = hash_head_[at(bucket)];
+            hash_head_[at(bucket)] = none;
+            for (; i != none && next_[at(i)] != none; i = next_[at(i)], ++mark_) {
+                const Index len = length_[at(i)];
+                const Index elen = elements_[at(i)];
+                for (Index q = pointer_[at(i)] + 1; q <= pointer_[at(i)] + len - 1; ++q)
+                    w_[at(memory_[at(q)])] = mark_;
+                Index j_last = i;
+                for (Index j = next_[at(i)]; j != none;) {
+                    bool same = length_[at(j)] == len && elements_[at(j)] == elen && same_set(i, j);
+                    for (Index q = pointer_[at(j)] + 1; same && q <= pointer_[at(j)] + len - 1; ++q)
+                        same = w_[at(memory_[at(q)])] == mark_;
+                    if (same) {
+                        pointer_[at(j)] = flip(i);
+                        size_[at(i)] += size_[at(j)];
+                        size_[at(j)] = 0;
+                        elements_[at(j)] = -1;
+                        j = next_[at(j)];
+                        next_[at(j_last)] = j;
+                    } else {
+                        j_last = j;
+                        j = next_[at(j)];
+                    }
+                }
+            }
+        }
+    }
+
+    // Orders by a postorder of the assembly tree: absorbed variables just
+    // before the element that absorbed them.
+    std::vector<std::uint32_t> postorder() {
+        for (Index i = 0; i < n_; ++i) pointer_[at(i)] = flip(pointer_[at(i)]);
+        std::fill(head_.begin(), head_.end(), none);
+        for (Index j = n_; j >= 0; --j) {
+            if (size_[at(j)] > 0) continue;
+            next_[at(j)] = head_[at(pointer_[at(j)])];
+            head_[at(pointer_[at(j)])] = j;
+        }
+        for (Index e = n_; e >= 0; --e) {
+            if (size_[at(e)] <= 0 || pointer_[at(e)] == none) continue;
+            next_[at(e)] = head_[at(pointer_[at(e)])];
+            head_[at(pointer_[at(e)])] = e;
+        }
+        std::vector<std::uint32_t> order;
+        order.reserve(at(n_) + 1);
+        std::vector<Index> stack;
+        for (Index root = 0; root <= n_; ++root) {
+            if (pointer_[at(root)] != none) continue;
+            stack.push_back(root);
+            while (!stack.empty()) {
+                const Index p = stack.back();
+                const Index child = head_[at(p)];
+                if (child == none) {
+                    stack.pop_back();
+                    if (p < n_) order.push_back(static_cast<std::uint32_t>(p));
+                } else {
+                    head_[at(p)] = next_[at(child)];
+                    stack.push_back(child);
+                }
+            }
+        }
+        return order;
+    }
+
+    Index n_;
+    std::span<const std::uint32_t> constraints_;
+    std::vector<std::size_t> set_begin_;
+    std::vector<Index> set_members_;
+    std::uint32_t current_set_ = 0;
+    std::vector<Index> pointer_;
+    std::vector<Index> length_;
+    std::vector<Index> size_;
+    std::vector<Index> next_;
+    std::vector<Index> last_;
+    std::vector<Index> head_;
+    std::vector<Index> elements_;
+    std::vector<Index> degree_;
+    std::vector<Index> w_;
+    std::vector<Index> hash_head_;
+    std::vector<Index> memory_;
+    Index used_ = 0;
+    Index dense_ = 0;
+    Index mark_ = 0;
+    Index min_degree_ = 0;
+    Index largest_element_ = 0;
+    Index eliminated_ = 0;
+};
+
+}  // namespace
+
+std::vector<std::uint32_t> minimum_degree_ordering(const SymmetricGraph& graph,
+                                                   std::span<const std::uint32_t> constraints) {
+    return MinimumDegree(graph, constraints).run();
+}
+
+}  // namespace dfm::solver

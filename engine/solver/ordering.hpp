@@ -1,0 +1,62 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "solver/csr_matrix.hpp"
+#include "solver/symmetric_graph.hpp"
+
+namespace dfm::solver {
+
+// Orderings are permutations given as perm[new] = old: the new unknown i is
+// the old unknown perm[i]. All are deterministic.
+
+enum class OrderingMethod {
+    identity,           // keeps the given order (tests, tiny systems)
+    nested_dissection,  // graph bisection with vertex separators, recursively
+    minimum_degree,     // approximate minimum degree
+};
+
+const char* ordering_method_name(OrderingMethod method);
+
+struct NestedDissectionOptions {
+    // Subgraphs of at most this many vertices are ordered by minimum degree
+    // instead of being bisected further.
+    std::size_t leaf_size = 96;
+};
+
+// 0, 1, ..., n − 1.
+std::vector<std::uint32_t> identity_ordering(std::size_t n);
+
+// Nested dissection: each connected subgraph is split by a vertex separator
+// taken from a breadth-first level structure rooted at a pseudo-peripheral
+// vertex and then thinned; both halves are ordered first (recursively) and
+// the separator last. Leaves are ordered by exact minimum degree.
+std::vector<std::uint32_t> nested_dissection_ordering(const SymmetricGraph& graph,
+                                                      const NestedDissectionOptions& options = {});
+
+// Approximate minimum degree (Amestoy, Davis and Duff) on the quotient
+// graph, with element absorption and mass elimination of indistinguishable
+// vertices. With `constraints` (one set number per vertex), pivots are
+// chosen from set 0 until it is exhausted, then set 1, and so on, each set
+// seeing the fill of the ones before (as in CAMD); the result is then
+// postordered, which keeps the fill.
+std::vector<std::uint32_t> minimum_degree_ordering(const SymmetricGraph& graph,
+                                                   std::span<const std::uint32_t> constraints = {});
+
+// The ordering of the pattern of A + Aᵀ by `method`. A must be square.
+std::vector<std::uint32_t> fill_reducing_ordering(const CsrMatrix& a, OrderingMethod method);
+
+// The same for a graph already built.
+std::vector<std::uint32_t> fill_reducing_ordering(const SymmetricGraph& graph,
+                                                  OrderingMethod method);
+
+// True when `perm` holds each of 0 .. n − 1 exactly once.
+bool is_permutation(std::span<const std::uint32_t> perm, std::size_t n);
+
+// inverse[perm[i]] = i. `perm` must be a permutation.
+std::vector<std::uint32_t> inverse_permutation(std::span<const std::uint32_t> perm);
+
+}  // namespace dfm::solver

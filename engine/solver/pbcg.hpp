@@ -1,0 +1,88 @@
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "core/status.hpp"
+#include "solver/csr_matrix.hpp"
+#include "solver/preconditioner.hpp"
+#include "solver/thread_pool.hpp"
+
+namespace dfm::solver {
+
+struct PbcgOptions {
+    // Stop a column once max_j |(M⁻¹ r)_j| ≤ tolerance: an absolute bound in
+    // solution units (say 1e-10 × the mesh's bounding-box diagonal). With
+    // M ≈ A, M⁻¹ r ≈ A⁻¹ (b − A x) is the error itself, so a warm start
+    // close to the solution cannot stop early with a large error, as a stop
+    // relative to the first residual can. (With a weak M such as Jacobi the
+    // estimate can be far below the true error.)
+    double tolerance = 1e-10;
+    std::size_t max_iterations = 1000;
+    // A and M symmetric (A positive definite): the shadow sequence equals the
+    // primal one, so solve by preconditioned conjugate gradients with half
+    // the work. Off: the general bi-conjugate gradient, with Aᵀ and M⁻ᵀ.
+    bool symmetric = true;
+    // Spreads the vector work and products with A over its threads (not
+    // owned; null runs inline). Results are the same bits either way.
+    ThreadPool* pool = nullptr;
+};
+
+struct PbcgColumnResult {
+    std::size_t iterations = 0;
+    bool converged = false;
+    bool breakdown = false;         // ρ or p̃ᵀAp vanished (or stopped being finite) first
+    double error_estimate = 0.0;    // the last max |M⁻¹ r|
+    double relative_residual = 0.0; // ‖b − A x‖₂ / ‖b‖₂ recomputed at the end; ‖A x‖₂ when b = 0
+};
+
+struct PbcgResult {
+    std::size_t iterations = 0;  // the most any column took
+    bool converged = false;      // every column
+    std::vector<PbcgColumnResult> columns;
+};
+
+// Work vectors for systems of n unknowns with up to k right-hand sides,
+// allocated once so that solves allocate nothing. The general (non-symmetric)
+// algorithm needs `general` for its shadow vectors.
+class PbcgWorkspace {
+public:
+    PbcgWorkspace() = default;
+    PbcgWorkspace(std::size_t n, std::size_t k, bool general = false);
+
+    std::size_t size() const { return n_; }
+    std::size_t columns() const { return k_; }
+    bool general() const { return general_; }
+
+private:
+    friend Status pbcg_solve(const CsrMatrix&, Preconditioner&, std::span<const double>,
+                             std::span<double>, std::size_t, const PbcgOptions&, PbcgWorkspace&,
+                             PbcgResult&);
+
+    std::size_t n_ = 0;
+    std::size_t k_ = 0;
+    bool general_ = false;
+    std::vector<double> r_, z_, p_, q_;
+    std::vector<double> shadow_r_, shadow_z_, shadow_p_, shadow_q_;
+    std::vector<double> partial_;
+    std::vector<double> rho_, rho_old_, pq_, error_, b_norm_;
+    std::vector<unsigned char> active_;
+};
+
+// Solves A x = b for k interleaved right-hand sides (b[j * k + c] is entry j
+// of column c) by the preconditioned bi-conjugate gradient, starting from
+// the x passed in (warm start). All k columns share each pass over A and
+// each application of M; every column keeps its own scalars and stops
+// updating once converged or broken down. Stops when every column has
+// stopped or at options.max_iterations. M must be set up for A (and
+// symmetric when options.symmetric is set). Fails only on bad arguments
+// (sizes, a workspace too small or without shadow vectors for the general
+// algorithm, a tolerance that is negative or NaN); a solve that does not
+// converge is reported in `result`. Allocates nothing once `result` has held
+// k columns.
+Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double> b,
+                  std::span<double> x, std::size_t k, const PbcgOptions& options,
+                  PbcgWorkspace& work, PbcgResult& result);
+
+}  // namespace dfm::solver

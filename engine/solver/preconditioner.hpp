@@ -1,0 +1,112 @@
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "core/status.hpp"
+#include "solver/csr_matrix.hpp"
+#include "solver/ordering.hpp"
+#include "solver/sparse_cholesky.hpp"
+#include "solver/thread_pool.hpp"
+
+namespace dfm::solver {
+
+// An approximation M of a square matrix A, applied as z = M⁻¹ r to k
+// interleaved vectors (r[j * k + c] is entry j of vector c). Set up once per
+// matrix, applied every Krylov iteration. Not thread-safe: apply may use
+// scratch held by the object.
+class Preconditioner {
+public:
+    virtual ~Preconditioner() = default;
+
+    // Builds M from `a`. Fails (and leaves M unusable) when `a` is not
+    // square or M cannot be built from it; the status says why.
+    virtual Status setup(const CsrMatrix& a) = 0;
+
+    // Makes room so that apply and apply_transposed allocate nothing for up
+    // to k vectors. A solver calls it before its iteration loop.
+    virtual void reserve(std::size_t k) { (void)k; }
+
+    // z = M⁻¹ r for k interleaved vectors; r and z must not overlap. Requires
+    // a successful setup.
+    virtual void apply(std::span<const double> r, std::span<double> z, std::size_t k) = 0;
+
+    // z = M⁻ᵀ r, for the shadow sequence of the general bi-conjugate
+    // gradient. The default, apply, is right for a symmetric M.
+    virtual void apply_transposed(std::span<const double> r, std::span<double> z, std::size_t k) {
+        apply(r, z, k);
+    }
+
+    virtual const char* name() const = 0;
+};
+
+// M = diag(A). The baseline: cheap, and weak on bi-Laplacian-like systems.
+class JacobiPreconditioner final : public Preconditioner {
+public:
+    // Fails on a zero or non-finite diagonal entry, naming its row.
+    Status setup(const CsrMatrix& a) override;
+    void apply(std::span<const double> r, std::span<double> z, std::size_t k) override;
+    const char* name() const override { return "jacobi"; }
+
+private:
+    std::vector<double> inverse_diagonal_;
+};
+
+// M = L Lᵀ with L restricted to the pattern of A's lower triangle, IC(0), in
+// A's own order. A must be symmetric with a positive diagonal. When a pivot
+// breaks down, A + α diag(A) is factored instead for growing α (Manteuffel's
+// shift).
+class IncompleteCholeskyPreconditioner final : public Preconditioner {
+public:
+    // Fails when A is not square, a row has no positive diagonal entry, or
+    // every shift up to the last one breaks down.
+    Status setup(const CsrMatrix& a) override;
+    void apply(std::span<const double> r, std::span<double> z, std::size_t k) override;
+    const char* name() const override { return "incomplete cholesky"; }
+
+    // The α of the last successful setup (0 when none was needed).
+    double shift() const { return shift_; }
+
+private:
+    CsrMatrix factor_;  // L by rows, diagonal last in each row
+    double shift_ = 0.0;
+};
+
+// M = A through a complete sparse Cholesky factor (a fill-reducing ordering,
+// then a supernodal factorization): preconditioned conjugate gradients then
+// converge in one or two steps. Setup with a matrix of the same pattern as
+// the previous one only refactors.
+class CholeskyPreconditioner final : public Preconditioner {
+public:
+    // `pool` (optional, not owned, must outlive this object) spreads the
+    // factorization over its threads; the factor is the same bits whatever
+    // the thread count.
+    explicit CholeskyPreconditioner(OrderingMethod ordering = OrderingMethod::minimum_degree,
+                                    ThreadPool* pool = nullptr);
+
+    // Fails when A is not square, its pattern not symmetric, or it is not
+    // positive definite (Errc::numerical naming the row).
+    Status setup(const CsrMatrix& a) override;
+    void reserve(std::size_t k) override;
+    void apply(std::span<const double> r, std::span<double> z, std::size_t k) override;
+    const char* name() const override { return "cholesky"; }
+
+    const SparseCholesky& factor() const { return cholesky_; }
+
+private:
+    OrderingMethod ordering_;
+    ThreadPool* pool_;
+    SparseCholesky cholesky_;
+    std::vector<double> work_;
+};
+
+enum class PreconditionerKind { jacobi, incomplete_cholesky, cholesky };
+
+// A new preconditioner of the given kind; `pool` is used by those that can
+// (the Cholesky factorization) and must outlive the result.
+std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind,
+                                                    ThreadPool* pool = nullptr);
+
+}  // namespace dfm::solver

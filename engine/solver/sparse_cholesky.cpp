@@ -1,0 +1,302 @@
+#include "solver/sparse_cholesky.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <string>
+
+#include "solver/dense_kernels.hpp"
+#include "solver/elimination_tree.hpp"
+
+namespace dfm::solver {
+
+namespace {
+
+constexpr std::uint32_t no_failure = std::numeric_limits<std::uint32_t>::max();
+// Supernodes above the subtrees are split between threads from this much
+// estimated work on; below it, waking the threads costs more than it saves.
+constexpr double split_work = 2e5;
+
+// Copies A's entries into supernode s's block (zero elsewhere) and records
+// where each of its rows sits in its row list.
+void assemble_supernode(const CholeskySymbolic& sym, std::span<const double> a_values,
+                        std::span<double> l_values, std::uint32_t s,
+                        std::span<std::uint32_t> position) {
+    const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
+    const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
+    double* l = &l_values[sym.value_begin[s]];
+    std::fill(l, l + m * w, 0.0);
+    for (std::size_t e = sym.entry_begin[s]; e < sym.entry_begin[s + 1]; ++e)
+        l_values[sym.entry_target[e]] = a_values[sym.entry_source[e]];
+    const std::uint32_t* rows = &sym.rows[sym.row_begin[s]];
+    for (std::size_t t = 0; t < m; ++t) position[rows[t]] = static_cast<std::uint32_t>(t);
+}
+
+// Subtracts from supernode s the updates of all its descendants, restricted
+// to s's rows [row_begin, row_end): for each descendant, the product of its
+// rows landing there with its rows in s's columns, then a scatter.
+void apply_updates(const CholeskySymbolic& sym, std::span<double> l_values, std::uint32_t s,
+                   std::span<const std::uint32_t> position, std::size_t row_begin,
+                   std::size_t row_end, CholeskyScratch& scratch) {
+    const std::uint32_t first = sym.column_begin[s];
+    const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
+    double* l = &l_values[sym.value_begin[s]];
+    for (std::size_t u = sym.update_begin[s]; u < sym.update_begin[s + 1]; ++u) {
+        const SupernodeUpdate& update = sym.updates[u];
+        const std::uint32_t d = update.source;
+        const std::size_t md = sym.row_begin[d + 1] - sym.row_begin[d];
+        const std::size_t wd = sym.column_begin[d + 1] - sym.column_begin[d];
+        const std::uint32_t* rows_d = &sym.rows[sym.row_begin[d]];
+        const double* ld = &l_values[sym.value_begin[d]];
+        // d's rows from `first` on land on ascending rows of s; keep those in
+        // range.
+        std::size_t lo = update.first;
+        std::size_t hi = md;
+        if (row_begin > 0 || row_end < m) {
+            const auto lands_before = [&](std::size_t limit) {
+                return [&, limit](std::uint32_t row) { return position[row] < limit; };
+            };
+            lo = static_cast<std::size_t>(
+                std::partition_point(rows_d + update.first, rows_d + md, lands_before(row_begin)) -
+                rows_d);
+            hi = static_cast<std::size_t>(
+                std::partition_point(rows_d + lo, rows_d + md, lands_before(row_end)) - rows_d);
+            if (lo == hi) continue;
+        }
+        const std::size_t height = hi - lo;
+        const std::size_t width = update.last - update.first;
+        const std::size_t offset = lo - update.first;
+        double* block = scratch.block.data();
+        dense::multiply_nt(height, width, wd, ld + lo, md, ld + update.first, md, block, height,
+                           false, true, offset);
+        std::uint32_t* relative = scratch.relative.data();
+        for (std::size_t t = 0; t < height; ++t) relative[t] = position[rows_d[lo + t]];
+        for (std::size_t c = 0; c < width; ++c) {
+            double* target = l + static_cast<std::size_t>(rows_d[update.first + c] - first) * m;
+            const double* column = block + c * height;
+            for (std::size_t t = c > offset ? c - offset : 0; t < height; ++t)
+                target[relative[t]] -= column[t];
+        }
+    }
+}
+
+// Assembles supernode s from A's entries and its descendants' updates, then
+// factors it. Returns the failing column (factor numbering) or no_failure.
+std::uint32_t factor_supernode(const CholeskySymbolic& sym, std::span<const double> a_values,
+                               std::span<double> l_values, std::uint32_t s,
+                               CholeskyScratch& scratch) {
+    const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
+    const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
+    assemble_supernode(sym, a_values, l_values, s, scratch.position);
+    apply_updates(sym, l_values, s, scratch.position, 0, m, scratch);
+    const std::size_t done = dense::factor_panel(m, w, &l_values[sym.value_begin[s]], m);
+    return done == w ? no_failure : sym.column_begin[s] + static_cast<std::uint32_t>(done);
+}
+
+// Cuts rows [begin, end) into `parts` ranges of about equal weight; row r
+// weighs min(r − offset + 1, cap) (the columns it has in a lower trapezoid).
+std::vector<std::size_t> split_rows(std::size_t begin, std::size_t end, std::size_t parts,
+                                    std::size_t offset, std::size_t cap) {
+    const auto weight = [&](std::size_t r) {
+        return static_cast<double>(std::min(r + 1 - std::min(r + 1, offset), cap));
+    };
+    double total = 0.0;
+    for (std::size_t r = begin; r < end; ++r) total += weight(r);
+    std::vector<std::size_t> cut{begin};
+    double sum = 0.0;
+    for (std::size_t r = begin; r < end && cut.size() < parts; ++r) {
+        sum += weight(r);
+        if (sum >= total * static_cast<double>(cut.size()) / static_cast<double>(parts))
+            cut.push_back(r + 1);
+    }
+    while (cut.size() <= parts) cut.push_back(end);
+    return cut;
+}
+
+// factor_supernode with every step split by rows between the pool's
+// threads: the same operations on every entry, so the same bits.
+std::uint32_t factor_supernode_split(const CholeskySymbolic& sym, std::span<const double> a_values,
+                                     std::span<double> l_values, std::uint32_t s,
+                                     std::span<CholeskyScratch> scratch, ThreadPool& pool) {
+    const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
+    const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
+    const std::size_t threads = pool.thread_count();
+    double* l = &l_values[sym.value_begin[s]];
+    const std::span<const std::uint32_t> position = scratch[0].position;
+    assemble_supernode(sym, a_values, l_values, s, scratch[0].position);
+    const std::vector<std::size_t> cut = split_rows(0, m, threads, 0, w);
+    pool.run(threads, [&](std::size_t t) {
+        apply_updates(sym, l_values, s, position, cut[t], cut[t + 1], scratch[t]);
+    });
+    for (std::size_t kb = 0; kb < w; kb += dense::panel_block) {
+        const std::size_t ke = std::min(w, kb + dense::panel_block);
+        double* diagonal = l + kb + kb * m;
+        const std::size_t done = dense::factor_diagonal(ke - kb, diagonal, m);
+        if (done < ke - kb) return sym.column_begin[s] + static_cast<std::uint32_t>(kb + done);
+        const std::vector<std::size_t> rows = split_rows(ke, m, threads, ke, w - ke);
+        pool.run(threads, [&](std::size_t t) {
+            const std::size_t r0 = rows[t];
+            const std::size_t r1 = rows[t + 1];
+            if (r0 == r1) return;
+            dense::solve_right_lower_transposed(r1 - r0, ke - kb, diagonal, m, l + r0 + kb * m, m);
+        });
+        if (ke == w) continue;
+        pool.run(threads, [&](std::size_t t) {
+            const std::size_t r0 = rows[t];
+            const std::size_t r1 = rows[t + 1];
+            if (r0 == r1) return;
+            dense::multiply_nt(r1 - r0, w - ke, ke - kb, l + r0 + kb * m, m, l + ke + kb * m, m,
+                               l + r0 + ke * m, m, true, true, r0 - ke);
+        });
+    }
+    return no_failure;
+}
+
+// Whole subtrees for each thread, balanced by estimated work, and the
+// supernodes above them, done afterwards in order. Subtrees are split from
+// the top while one of them holds more than its share of the work.
+struct Schedule {
+    std::vector<std::vector<std::uint32_t>> subtrees;  // roots, per thread
+    std::vector<std::uint32_t> top;                    // ascending
+};
+
+Schedule make_schedule(const CholeskySymbolic& sym, std::size_t threads) {
+    const std::size_t s_count = sym.supernode_count();
+    std::vector<double> subtree_work(sym.work.begin(), sym.work.end());
+    std::vector<std::vector<std::uint32_t>> children(s_count);
+    std::vector<std::uint32_t> roots;
+    double total = 0.0;
+    for (std::uint32_t s = 0; s < s_count; ++s) {
+        total += sym.work[s];
+        if (sym.parent[s] == no_parent) {
+            roots.push_back(s);
+        } else {
+            subtree_work[sym.parent[s]] += subtree_work[s];
+            children[sym.parent[s]].push_back(s);
+        }
+    }
+    Schedule schedule;
+    schedule.subtrees.resize(threads);
+    const double share = total / static_cast<double>(2 * threads);
+    const auto heavier = [&](std::uint32_t x, std::uint32_t y) {
+        return subtree_work[x] != subtree_work[y] ? subtree_work[x] < subtree_work[y] : x > y;
+    };
+    std::vector<std::uint32_t> heap = roots;
+    std::make_heap(heap.begin(), heap.end(), heavier);
+    while (!heap.empty() && subtree_work[heap.front()] > share &&
+           !children[heap.front()].empty()) {
+        std::pop_heap(heap.begin(), heap.end(), heavier);
+        const std::uint32_t s = heap.back();
+        heap.pop_back();
+        schedule.top.push_back(s);
+        for (const std::uint32_t c : children[s]) {
+            heap.push_back(c);
+            std::push_heap(heap.begin(), heap.end(), heavier);
+        }
+    }
+    std::sort(schedule.top.begin(), schedule.top.end());
+    // Longest first, each to the least loaded thread.
+    std::sort(heap.begin(), heap.end(), [&](std::uint32_t x, std::uint32_t y) { return heavier(y, x); });
+    std::vector<double> load(threads, 0.0);
+    for (const std::uint32_t root : heap) {
+        const std::size_t t =
+            static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+        load[t] += subtree_work[root];
+        schedule.subtrees[t].push_back(root);
+    }
+    for (auto& list : schedule.subtrees) std::sort(list.begin(), list.end());
+    return schedule;
+}
+
+}  // namespace
+
+CholeskyScratch::CholeskyScratch(const CholeskySymbolic& sym)
+    : position(sym.n), relative(sym.max_rows), block(sym.max_update_size) {}
+
+Status SparseCholesky::analyze(const CsrMatrix& a, OrderingMethod method) {
+    factored_ = false;
+    values_.clear();
+    if (a.rows != a.cols) return analyze_cholesky(a, std::span<const std::uint32_t>{}, symbolic_);
+    return analyze_cholesky(a, fill_reducing_ordering(a, method), symbolic_);
+}
+
+Status SparseCholesky::analyze(const CsrMatrix& a, std::span<const std::uint32_t> perm) {
+    factored_ = false;
+    values_.clear();
+    return analyze_cholesky(a, perm, symbolic_);
+}
+
+Status SparseCholesky::compute(const CsrMatrix& a, OrderingMethod method, ThreadPool* pool) {
+    if (!symbolic_.matches(a)) {
+        if (Status st = analyze(a, method); !st) return st;
+    }
+    return factorize(a, pool);
+}
+
+Status SparseCholesky::factorize(const CsrMatrix& a, ThreadPool* pool) {
+    factored_ = false;
+    if (!symbolic_.matches(a))
+        return {Errc::invalid_argument,
+                "Cholesky: the matrix's pattern differs from the analysed one"};
+    const CholeskySymbolic& sym = symbolic_;
+    values_.resize(sym.stored_values);
+    const std::size_t threads = pool != nullptr ? pool->thread_count() : 1;
+    while (scratch_.size() < threads) scratch_.emplace_back(sym);
+    for (CholeskyScratch& s : scratch_)
+        if (s.position.size() != sym.n || s.block.size() < sym.max_update_size ||
+            s.relative.size() < sym.max_rows)
+            s = CholeskyScratch(sym);
+
+    // A failure stops the supernodes that depend on it; the one reported is
+    // the first in factor order, as a sequential run would find it.
+    std::uint32_t failed = no_failure;
+    std::uint32_t failed_supernode = no_failure;
+    const auto record = [&](std::uint32_t s, std::uint32_t column) {
+        if (column != no_failure && s < failed_supernode) {
+            failed_supernode = s;
+            failed = column;
+        }
+    };
+    const std::uint32_t s_count = static_cast<std::uint32_t>(sym.supernode_count());
+    if (threads == 1) {
+        for (std::uint32_t s = 0; s < s_count && failed == no_failure; ++s)
+            record(s, factor_supernode(sym, a.values, values_, s, scratch_[0]));
+    } else {
+        const Schedule schedule = make_schedule(sym, threads);
+        std::vector<std::uint32_t> first_failure(threads, no_failure);
+        std::vector<std::uint32_t> failure_column(threads, no_failure);
+        pool->run(threads, [&](std::size_t t) {
+            for (const std::uint32_t root : schedule.subtrees[t]) {
+                for (std::uint32_t s = sym.subtree_begin[root]; s <= root; ++s) {
+                    const std::uint32_t column =
+                        factor_supernode(sym, a.values, values_, s, scratch_[t]);
+                    if (column == no_failure) continue;
+                    if (s < first_failure[t]) {
+                        first_failure[t] = s;
+                        failure_column[t] = column;
+                    }
+                    break;
+                }
+            }
+        });
+        for (std::size_t t = 0; t < threads; ++t)
+            if (first_failure[t] != no_failure) record(first_failure[t], failure_column[t]);
+        for (const std::uint32_t s : schedule.top) {
+            if (s > failed_supernode) break;
+            const std::uint32_t column =
+                sym.work[s] >= split_work
+                    ? factor_supernode_split(sym, a.values, values_, s, scratch_, *pool)
+                    : factor_supernode(sym, a.values, values_, s, scratch_[0]);
+            if (column != no_failure) {
+                record(s, column);
+                break;
+            }
+        }
+    }
+    if (failed != no_failure)
+        return {Errc::numerical, "Cholesky: the matrix is not positive definite (pivot of row " +
+                                     std::to_string(sym.perm[failed]) + " is not positive)"};
+    factored_ = true;
+    return Status::ok();
+}
+
+}  // namespace dfm::solver

@@ -1,0 +1,70 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/status.hpp"
+#include "solver/cholesky_symbolic.hpp"
+#include "solver/csr_matrix.hpp"
+#include "solver/ordering.hpp"
+#include "solver/thread_pool.hpp"
+
+namespace dfm::solver {
+
+// What one thread needs to assemble supernodes: where each row of the
+// supernode at hand sits in its row list, and room for one update block.
+struct CholeskyScratch {
+    explicit CholeskyScratch(const CholeskySymbolic& sym);
+
+    std::vector<std::uint32_t> position;
+    std::vector<std::uint32_t> relative;
+    std::vector<double> block;
+};
+
+// A complete sparse Cholesky factorization P A Pᵀ = L Lᵀ of a symmetric
+// positive definite matrix, supernodal and left-looking. The symbolic phase
+// (ordering, elimination tree, supernodes, layout) depends only on A's
+// pattern; the numeric phase can be repeated for every matrix with that
+// pattern. The factor is bit-identical whatever the thread count.
+class SparseCholesky {
+public:
+    // Orders A's pattern with `method` and analyses it. Forgets any factor.
+    Status analyze(const CsrMatrix& a, OrderingMethod method = OrderingMethod::nested_dissection);
+
+    // Analyses A's pattern for the given ordering (perm[new] = old).
+    Status analyze(const CsrMatrix& a, std::span<const std::uint32_t> perm);
+
+    // Computes the factor of `a`, which must be symmetric and have the
+    // analysed pattern (of each pair of twins, the entry in the row
+    // eliminated first is read). A pivot that is not positive (A not
+    // positive definite, or NaN in A) fails with Errc::numerical naming the
+    // column in A's numbering; the factor is then unusable. `pool` spreads
+    // the work over its threads.
+    Status factorize(const CsrMatrix& a, ThreadPool* pool = nullptr);
+
+    // Analyses `a` unless its pattern is the one last analysed, then
+    // factorizes it.
+    Status compute(const CsrMatrix& a, OrderingMethod method = OrderingMethod::nested_dissection,
+                   ThreadPool* pool = nullptr);
+
+    bool is_factored() const { return factored_; }
+    std::size_t size() const { return symbolic_.n; }
+    const CholeskySymbolic& symbolic() const { return symbolic_; }
+
+    // x = A⁻¹ b for k interleaved vectors (b[j * k + c] is entry j of vector
+    // c), both in A's numbering, with one pass over the factor for all k.
+    // `work` holds at least size() * k doubles. b and x may be the same
+    // span. Requires is_factored(). Thread-safe: const and allocation-free.
+    void solve(std::span<const double> b, std::span<double> x, std::size_t k,
+               std::span<double> work) const;
+
+private:
+    CholeskySymbolic symbolic_;
+    std::vector<double> values_;
+    std::vector<CholeskyScratch> scratch_;
+    bool factored_ = false;
+};
+
+}  // namespace dfm::solver

@@ -1,0 +1,32 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "solver/csr_matrix.hpp"
+
+namespace dfm::solver {
+
+// The undirected graph of a square sparsity pattern: vertex i is row/column
+// i, and i–j is an edge when A(i, j) or A(j, i) is stored, i != j. The
+// neighbours of v are neighbors[offsets[v] .. offsets[v + 1]), ascending.
+struct SymmetricGraph {
+    std::vector<std::size_t> offsets{0};
+    std::vector<std::uint32_t> neighbors;
+
+    std::size_t size() const { return offsets.size() - 1; }
+    std::size_t degree(std::uint32_t v) const { return offsets[v + 1] - offsets[v]; }
+    std::span<const std::uint32_t> of(std::uint32_t v) const {
+        return std::span(neighbors).subspan(offsets[v], offsets[v + 1] - offsets[v]);
+    }
+};
+
+// The graph of the pattern of A + Aᵀ, without self-loops. A must be square.
+SymmetricGraph symmetric_graph(const CsrMatrix& a);
+
+// True when A is square and A(j, i) is stored wherever A(i, j) is.
+bool has_symmetric_pattern(const CsrMatrix& a);
+
+}  // namespace dfm::solver

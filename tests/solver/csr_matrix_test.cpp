@@ -1,0 +1,47 @@
+#include <doctest/doctest.h>
+
+#include <vector>
+
+#include "solver/csr_matrix.hpp"
+#include "solver/test_matrices.hpp"
+
+using namespace dfm::solver;
+
+TEST_CASE("solver: csr_from_triplets sums duplicates and sorts each row") {
+    std::vector<Triplet> triplets = {{1, 2, 1.0}, {0, 1, 2.0}, {1, 0, 3.0}, {1, 2, 4.0},
+                                     {0, 1, -2.0}, {2, 2, 5.0}, {1, 2, 0.5}};
+    const CsrMatrix m = csr_from_triplets(3, 3, triplets);
+    CHECK(m.rows == 3);
+    CHECK(m.cols == 3);
+    CHECK(m.row_offsets == std::vector<std::size_t>{0, 1, 3, 4});
+    CHECK(m.col_indices == std::vector<std::uint32_t>{1, 0, 2, 2});
+    // A duplicate that cancels stays stored, as an explicit zero.
+    CHECK(m.values == std::vector<double>{0.0, 3.0, 5.5, 5.0});
+    CHECK(m.nonzeros() == 4);
+    CHECK(m.diagonal() == std::vector<double>{0.0, 0.0, 5.0});
+}
+
+TEST_CASE("solver: multiply and multiply_transposed match the dense product") {
+    const CsrMatrix a = dfm::test::random_nonsymmetric(23, 6, 7);
+    const std::vector<double> dense = dfm::test::to_dense(a);
+    for (const std::size_t k : {1u, 3u}) {
+        CAPTURE(k);
+        const std::vector<double> x = dfm::test::random_vector(23 * k, 11);
+        std::vector<double> y(23 * k);
+        std::vector<double> yt(23 * k);
+        a.multiply(x, y, k);
+        a.multiply_transposed(x, yt, k);
+        for (std::size_t i = 0; i < 23; ++i) {
+            for (std::size_t c = 0; c < k; ++c) {
+                double sum = 0.0;
+                double sum_t = 0.0;
+                for (std::size_t j = 0; j < 23; ++j) {
+                    sum += dense[i * 23 + j] * x[j * k + c];
+                    sum_t += dense[j * 23 + i] * x[j * k + c];
+                }
+                CHECK(y[i * k + c] == doctest::Approx(sum).epsilon(1e-13));
+                CHECK(yt[i * k + c] == doctest::Approx(sum_t).epsilon(1e-13));
+            }
+        }
+    }
+}

@@ -1,0 +1,184 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "solver/sparse_cholesky.hpp"
+#include "solver/test_matrices.hpp"
+#include "support/procedural_meshes.hpp"
+
+using namespace dfm::solver;
+
+namespace {
+
+constexpr OrderingMethod all_methods[] = {OrderingMethod::identity,
+                                          OrderingMethod::nested_dissection,
+                                          OrderingMethod::minimum_degree};
+
+std::vector<double> cholesky_solve(const SparseCholesky& chol, const std::vector<double>& b,
+                                   std::size_t k) {
+    std::vector<double> x(b.size());
+    std::vector<double> work(b.size());
+    chol.solve(b, x, k, work);
+    return x;
+}
+
+// A copy of `a` with one value changed.
+CsrMatrix with_diagonal(CsrMatrix a, std::size_t row, double value) {
+    for (std::size_t p = a.row_offsets[row]; p < a.row_offsets[row + 1]; ++p)
+        if (a.col_indices[p] == row) a.values[p] = value;
+    return a;
+}
+
+}  // namespace
+
+TEST_CASE("solver: sparse Cholesky matches a dense solve on random SPD systems") {
+    for (const std::size_t n : {1u, 2u, 17u, 150u, 400u}) {
+        for (const OrderingMethod method : all_methods) {
+            CAPTURE(n);
+            CAPTURE(ordering_method_name(method));
+            const CsrMatrix a = dfm::test::random_spd(n, 8, n + 100);
+            const std::vector<double> b = dfm::test::random_vector(n * 3, n);
+            SparseCholesky chol;
+            REQUIRE(chol.compute(a, method).is_ok());
+            CHECK(chol.is_factored());
+            const std::vector<double> x = cholesky_solve(chol, b, 3);
+            CHECK(dfm::test::relative_residual(a, x, b, 3) < 1e-12);
+            CHECK(dfm::test::relative_difference(x, dfm::test::dense_solve(a, b, 3)) < 1e-12);
+        }
+    }
+}
+
+TEST_CASE("solver: sparse Cholesky solves a grid bi-Laplacian to 1e-12") {
+    const CsrMatrix a = dfm::test::normal_product(dfm::test::grid_laplacian(22, 19), 0.0);
+    const std::vector<double> b = dfm::test::random_vector(a.rows, 5);
+    const std::vector<double> reference = dfm::test::dense_solve(a, b, 1);
+    for (const OrderingMethod method : all_methods) {
+        CAPTURE(ordering_method_name(method));
+        SparseCholesky chol;
+        REQUIRE(chol.compute(a, method).is_ok());
+        const std::vector<double> x = cholesky_solve(chol, b, 1);
+        CHECK(dfm::test::relative_residual(a, x, b, 1) < 1e-12);
+        CHECK(dfm::test::relative_difference(x, reference) < 1e-10);
+    }
+}
+
+TEST_CASE("solver: sparse Cholesky solves a sphere mesh's 2-ring system") {
+    const CsrMatrix a = dfm::test::normal_product(
+        dfm::test::mesh_laplacian(dfm::test::make_icosphere(4), 0.1), 1e-8);
+    const std::vector<double> b = dfm::test::random_vector(a.rows * 3, 9);
+    for (const OrderingMethod method :
+         {OrderingMethod::nested_dissection, OrderingMethod::minimum_degree}) {
+        CAPTURE(ordering_method_name(method));
+        SparseCholesky chol;
+        REQUIRE(chol.compute(a, method).is_ok());
+        CHECK(dfm::test::relative_residual(a, cholesky_solve(chol, b, 3), b, 3) < 1e-12);
+    }
+}
+
+TEST_CASE("solver: sparse Cholesky reports a non-positive pivot naming the row") {
+    const CsrMatrix spd = dfm::test::random_spd(300, 8, 4);
+    for (const OrderingMethod method : all_methods) {
+        CAPTURE(ordering_method_name(method));
+        SparseCholesky chol;
+        const dfm::Status st = chol.compute(with_diagonal(spd, 123, -1.0), method);
+        CHECK(st.code() == dfm::Errc::numerical);
+        CHECK(st.message().find("row 123 ") != std::string::npos);
+        CHECK_FALSE(chol.is_factored());
+        // The same pattern factors once the matrix is positive definite again.
+        CHECK(chol.factorize(spd).is_ok());
+        CHECK(chol.is_factored());
+    }
+    SparseCholesky chol;
+    const CsrMatrix with_nan = with_diagonal(spd, 7, std::numeric_limits<double>::quiet_NaN());
+    CHECK(chol.compute(with_nan).code() == dfm::Errc::numerical);
+    const CsrMatrix zero = with_diagonal(dfm::test::random_spd(1, 0, 1), 0, 0.0);
+    CHECK(chol.compute(zero).code() == dfm::Errc::numerical);
+}
+
+TEST_CASE("solver: refactoring the same pattern matches a fresh factorization") {
+    const CsrMatrix a = dfm::test::normal_product(dfm::test::grid_laplacian(15, 12), 0.0);
+    CsrMatrix scaled = a;
+    for (double& v : scaled.values) v *= 3.0;
+    scaled = with_diagonal(scaled, 5, scaled.diagonal()[5] + 2.0);
+    const std::vector<double> b = dfm::test::random_vector(a.rows * 2, 3);
+
+    SparseCholesky reused;
+    REQUIRE(reused.compute(a).is_ok());
+    const std::vector<std::uint32_t> perm = reused.symbolic().perm;
+    REQUIRE(reused.compute(scaled).is_ok());
+    CHECK(reused.symbolic().perm == perm);
+    SparseCholesky fresh;
+    REQUIRE(fresh.compute(scaled).is_ok());
+    CHECK(cholesky_solve(reused, b, 2) == cholesky_solve(fresh, b, 2));
+}
+
+TEST_CASE("solver: sparse Cholesky rejects what it cannot factor") {
+    SparseCholesky chol;
+    const CsrMatrix a = dfm::test::random_spd(20, 4, 1);
+    SUBCASE("not square") {
+        CsrMatrix wide = a;
+        wide.cols = 21;
+        CHECK(chol.compute(wide).code() == dfm::Errc::invalid_argument);
+    }
+    SUBCASE("pattern not symmetric") {
+        const CsrMatrix b = dfm::test::random_nonsymmetric(20, 4, 1);
+        CHECK(chol.compute(b).code() == dfm::Errc::invalid_argument);
+    }
+    SUBCASE("ordering not a permutation") {
+        std::vector<std::uint32_t> perm = identity_ordering(20);
+        perm[3] = 4;
+        CHECK(chol.analyze(a, perm).code() == dfm::Errc::invalid_argument);
+    }
+    SUBCASE("another pattern than the analysed one") {
+        REQUIRE(chol.analyze(a).is_ok());
+        CHECK(chol.factorize(dfm::test::random_spd(20, 4, 2)).code() ==
+              dfm::Errc::invalid_argument);
+        CHECK_FALSE(chol.is_factored());
+    }
+}
+
+TEST_CASE("solver: Cholesky solve with k = 3 equals three k = 1 solves bit for bit") {
+    const CsrMatrix a = dfm::test::normal_product(dfm::test::grid_laplacian(17, 17), 1e-6);
+    SparseCholesky chol;
+    REQUIRE(chol.compute(a).is_ok());
+    const std::size_t n = a.rows;
+    const std::vector<double> b = dfm::test::random_vector(n * 3, 12);
+    const std::vector<double> x = cholesky_solve(chol, b, 3);
+    for (std::size_t c = 0; c < 3; ++c) {
+        std::vector<double> bc(n);
+        for (std::size_t i = 0; i < n; ++i) bc[i] = b[i * 3 + c];
+        const std::vector<double> xc = cholesky_solve(chol, bc, 1);
+        for (std::size_t i = 0; i < n; ++i) REQUIRE(xc[i] == x[i * 3 + c]);
+    }
+    // And with more vectors than the specialised widths, in place.
+    const std::vector<double> b7 = dfm::test::random_vector(n * 7, 13);
+    std::vector<double> in_place = b7;
+    std::vector<double> work(n * 7);
+    chol.solve(in_place, in_place, 7, work);
+    CHECK(dfm::test::relative_residual(a, in_place, b7, 7) < 1e-12);
+}
+
+TEST_CASE("solver: Cholesky factor and solve are bit-identical with 1, 2 and 3 threads") {
+    // Large enough that the top supernodes are split between threads.
+    const CsrMatrix a = dfm::test::normal_product(dfm::test::grid_laplacian(70, 60), 1e-6);
+    const std::vector<double> b = dfm::test::random_vector(a.rows * 3, 21);
+    std::vector<std::vector<double>> solutions;
+    for (const std::size_t threads : {1u, 2u, 3u}) {
+        for (const OrderingMethod method :
+             {OrderingMethod::minimum_degree, OrderingMethod::nested_dissection}) {
+            CAPTURE(threads);
+            ThreadPool pool(threads);
+            SparseCholesky chol;
+            REQUIRE(chol.compute(a, method, &pool).is_ok());
+            solutions.push_back(cholesky_solve(chol, b, 3));
+            CHECK(dfm::test::relative_residual(a, solutions.back(), b, 3) < 1e-10);
+            const dfm::Status failed = chol.factorize(with_diagonal(a, 1234, -5.0), &pool);
+            CHECK(failed.code() == dfm::Errc::numerical);
+            CHECK(failed.message().find("row 1234 ") != std::string::npos);
+        }
+    }
+    for (std::size_t s = 2; s < solutions.size(); ++s) CHECK(solutions[s] == solutions[s % 2]);
+}
