@@ -27,6 +27,7 @@ Status MeshBuilder::add_vertex(const glm::dvec3& p, const Where& where) {
 }
 
 Status MeshBuilder::check_polygon_size(std::uint64_t corners, const Where& where) const {
+    if (corners >= 3 && corners <= mesh_.positions.size()) return Status::ok();
     const std::string face = "face " + std::to_string(polygons_) + ": ";
     if (corners < 3) {
         return where.parse_error(face + "has " + std::to_string(corners) +
@@ -42,14 +43,15 @@ Status MeshBuilder::check_polygon_size(std::uint64_t corners, const Where& where
 
 Status MeshBuilder::add_polygon(std::span<const std::int64_t> corners, const Where& where) {
     if (Status s = check_polygon_size(corners.size(), where); !s) return s;
-    const std::string face = "face " + std::to_string(polygons_);
+    const std::size_t index = polygons_;
+    const auto face = [index] { return "face " + std::to_string(index); };
     const auto n = static_cast<std::int64_t>(mesh_.positions.size());
     ring_.clear();
     for (std::size_t k = 0; k < corners.size(); ++k) {
         const std::int64_t i = corners[k];
         if (i < 0 || i >= n) {
             return where.error(Errc::out_of_range,
-                               face + ": vertex index " + std::to_string(i) +
+                               face() + ": vertex index " + std::to_string(i) +
                                    " is out of range (the mesh has " + std::to_string(n) +
                                    " vertices, indexed from 0)");
         }
@@ -76,7 +78,7 @@ Status MeshBuilder::add_polygon(std::span<const std::int64_t> corners, const Whe
     }
     if (dropped > 0) {
         report_.dropped_faces += dropped;
-        warn(where, face + ": repeats a vertex; " + std::to_string(dropped) +
+        warn(where, face() + ": repeats a vertex; " + std::to_string(dropped) +
                         (dropped == 1 ? " triangle" : " triangles") + " dropped");
     }
     return Status::ok();

@@ -1,6 +1,9 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
@@ -121,4 +124,97 @@ TEST_CASE("dualform help exits 0 and lists the commands") {
     const auto r = dualform({"help"});
     CHECK(r.exit_code == 0);
     CHECK(r.out.find("info PATH|model:NAME") != std::string::npos);
+}
+
+namespace {
+
+std::filesystem::path scenarios_dir() { return dfm::test::data_dir().parent_path() / "scenarios"; }
+
+}  // namespace
+
+TEST_CASE("dualform deform: writes the mesh, the ROI and a report with every field") {
+    const auto dir = dfm::test::scratch_dir("cli_deform");
+    const std::string out = (dir / "cow.ply").string();
+    const std::string report = (dir / "report.json").string();
+    const std::string roi = (dir / "roi.txt").string();
+    const auto r = dualform({"deform", (scenarios_dir() / "scale-cow-leg.json").string(), "--out",
+                             out, "--report", report, "--roi-out", roi, "--strict"});
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const std::string json = dfm::test::read_text(report);
+    CHECK(json == r.out);
+    for (const char* key : {"mesh", "n_vertices", "n_faces", "n_roi", "n_handles", "iterations",
+                            "converged", "setup_ms", "solve_ms", "ms_per_iteration",
+                            "krylov_iterations", "max_handle_error", "mean_abs_log_edge",
+                            "max_abs_log_edge", "mean_normal_change_deg", "max_fixed_move",
+                            "dual_magnitude_error"}) {
+        CAPTURE(key);
+        CHECK(field(json, key) != "<missing>");
+    }
+    CHECK(field(json, "n_vertices") == "2904");
+    CHECK(field(json, "converged") == "true");
+    CHECK(field(json, "max_fixed_move") == "0");
+    check_info(out, "2904", "5804");
+
+    std::istringstream lines(dfm::test::read_text(roi));
+    std::vector<long> indices;
+    for (std::string line; std::getline(lines, line);) indices.push_back(std::stol(line));
+    CHECK(std::to_string(indices.size()) == field(json, "n_roi"));
+    CHECK(std::is_sorted(indices.begin(), indices.end()));
+    CHECK(std::adjacent_find(indices.begin(), indices.end()) == indices.end());
+}
+
+TEST_CASE("dualform deform: Water-Filling is a clear error until picking lands; bad input exits 2") {
+    const auto dir = dfm::test::scratch_dir("cli_deform_errors");
+    const std::string out = (dir / "x.off").string();
+    auto r = dualform({"deform", (scenarios_dir() / "cow-front-leg-step.json").string(), "--out", out});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("Water-Filling is not available") != std::string::npos);
+
+    dfm::test::write_text(dir / "outside.json",
+                          R"({"mesh": "model:cow", "roi": {"ball": {"center": 901, "radius": 0.1}},
+                              "handles": [{"vertices": [0], "translate": [0.1, 0, 0]}]})");
+    r = dualform({"deform", (dir / "outside.json").string(), "--out", out});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("handles[0]: vertex 0 is outside the ROI") != std::string::npos);
+
+    dfm::test::write_text(dir / "typo.json", R"({"mesh": "model:cow", "roi": {"all": true}, "handels": []})");
+    r = dualform({"deform", (dir / "typo.json").string(), "--out", out});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("handels") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(out));
+
+    r = dualform({"deform", (scenarios_dir() / "scale-cow-leg.json").string()});
+    CHECK(r.exit_code == 2);
+}
+
+TEST_CASE("dualform deform --strict: a capped, unconverged solve exits 1") {
+    const auto dir = dfm::test::scratch_dir("cli_deform_strict");
+    dfm::test::write_text(dir / "capped.json",
+                          R"({"mesh": "model:cow", "roi": {"ball": {"center": 901, "radius": 0.2}},
+                              "handles": [{"ball": {"center": 901, "radius": 0.04}, "translate": [0.1, 0, 0]}],
+                              "solver": {"max_iterations": 1, "tolerance": 1e-9}})");
+    const auto r = dualform({"deform", (dir / "capped.json").string(), "--out",
+                             (dir / "x.off").string(), "--strict"});
+    CHECK(r.exit_code == 1);
+    CHECK(field(r.out, "converged") == "false");
+    CHECK(r.err.find("did not converge") != std::string::npos);
+}
+
+TEST_CASE("dualform bench: set-up, solve and a 60-frame drag, as JSON") {
+    const auto dir = dfm::test::scratch_dir("cli_bench");
+    const std::string json_path = (dir / "bench.json").string();
+    const auto r = dualform({"bench", (scenarios_dir() / "scale-cow-leg.json").string(), "--repeat",
+                             "2", "--json", json_path});
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const std::string json = dfm::test::read_text(json_path);
+    for (const char* key : {"setup_ms", "solve_ms", "median", "p90", "drag", "frame_ms",
+                            "iterations_per_frame", "peak_rss_mib", "quality"}) {
+        CAPTURE(key);
+        CHECK(json.find(std::string("\"") + key + "\"") != std::string::npos);
+    }
+    CHECK(field(json, "frames") == "60");
+    CHECK(field(json, "unconverged_frames") == "0");
+    CHECK(dualform({"bench", "--repeat", "0", "x.json"}).exit_code == 2);
 }

@@ -3,6 +3,8 @@
 #include <span>
 #include <string_view>
 
+#include "deform/linear_solver.hpp"
+
 // Each subcommand takes the arguments after its name and returns the exit
 // code: 0 success, 2 bad input (with "error: ..." on stderr), 1 failed work.
 namespace dfm::cli {
@@ -13,6 +15,11 @@ inline constexpr int exit_bad_input = 2;
 
 int run_info(std::span<const std::string_view> args);
 int run_convert(std::span<const std::string_view> args);
+int run_deform(std::span<const std::string_view> args);
+int run_bench(std::span<const std::string_view> args);
+
+// Reads a preconditioner's name as preconditioner_name() writes it.
+bool parse_preconditioner(std::string_view name, deform::Preconditioner& out);
 
 // Prints "error: <message>" on stderr and returns exit_bad_input.
 int bad_input(std::string_view message);

@@ -21,6 +21,10 @@ constexpr const char* help_text =
     "commands:\n"
     "  info PATH|model:NAME   print one JSON object describing the mesh\n"
     "  convert IN OUT         write IN in the format OUT's extension names (.off .obj .ply)\n"
+    "  deform SCENARIO --out MESH [--report JSON] [--roi-out TXT] [--strict]\n"
+    "                         replay an edit scenario; prints its report as JSON\n"
+    "  bench SCENARIO... [--repeat N] [--json FILE]\n"
+    "                         time set-up, solve and a 60-frame drag; JSON out\n"
     "  help                   print this text\n"
     "\n"
     "exit codes: 0 success, 2 bad input (error: ... on stderr), 1 the work failed\n"
@@ -42,6 +46,8 @@ int main(int argc, char** argv) {
         const std::vector<std::string_view> args(argv + 2, argv + argc);
         if (command == "info") return run_info(args);
         if (command == "convert") return run_convert(args);
+        if (command == "deform") return run_deform(args);
+        if (command == "bench") return run_bench(args);
         if (command == "help" || command == "--help" || command == "-h") {
             std::fputs(help_text, stdout);
             return exit_ok;

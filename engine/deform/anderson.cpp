@@ -1,0 +1,104 @@
+#include "deform/anderson.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dfm::deform {
+
+namespace {
+
+double dot(const double* a, const double* b, std::size_t n) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < n; ++i) s += a[i] * b[i];
+    return s;
+}
+
+// Solves the small symmetric system G γ = rhs in place (rhs becomes γ) by
+// Gaussian elimination with partial pivoting. False when it is singular.
+bool solve_small(std::vector<double>& g, std::vector<double>& rhs, std::size_t m) {
+    for (std::size_t k = 0; k < m; ++k) {
+        std::size_t pivot = k;
+        for (std::size_t i = k + 1; i < m; ++i) {
+            if (std::abs(g[i * m + k]) > std::abs(g[pivot * m + k])) pivot = i;
+        }
+        if (!(std::abs(g[pivot * m + k]) > 0.0)) return false;
+        if (pivot != k) {
+            for (std::size_t j = 0; j < m; ++j) std::swap(g[k * m + j], g[pivot * m + j]);
+            std::swap(rhs[k], rhs[pivot]);
+        }
+        for (std::size_t i = k + 1; i < m; ++i) {
+            const double factor = g[i * m + k] / g[k * m + k];
+            for (std::size_t j = k; j < m; ++j) g[i * m + j] -= factor * g[k * m + j];
+            rhs[i] -= factor * rhs[k];
+        }
+    }
+    for (std::size_t k = m; k-- > 0;) {
+        double s = rhs[k];
+        for (std::size_t j = k + 1; j < m; ++j) s -= g[k * m + j] * rhs[j];
+        rhs[k] = s / g[k * m + k];
+    }
+    return true;
+}
+
+}  // namespace
+
+void AndersonAccelerator::reset(std::size_t size, std::size_t memory) {
+    size_ = size;
+    memory_ = memory;
+    restart();
+    previous_f_.assign(size, 0.0);
+    previous_g_.assign(size, 0.0);
+    delta_f_.assign(size * memory, 0.0);
+    delta_g_.assign(size * memory, 0.0);
+    f_.assign(size, 0.0);
+    gram_.assign(memory * memory, 0.0);
+    gamma_.assign(memory, 0.0);
+}
+
+void AndersonAccelerator::step(std::span<const double> x, std::span<const double> g,
+                               std::span<double> next) {
+    for (std::size_t i = 0; i < size_; ++i) f_[i] = g[i] - x[i];
+    std::copy(g.begin(), g.end(), next.begin());
+    if (memory_ == 0 || !has_previous_) {
+        std::copy(f_.begin(), f_.end(), previous_f_.begin());
+        std::copy(g.begin(), g.end(), previous_g_.begin());
+        has_previous_ = true;
+        return;
+    }
+    // The newest differences overwrite the oldest of `memory_` columns; the
+    // least-squares fit does not care about their order.
+    double* df = &delta_f_[next_slot_ * size_];
+    double* dg = &delta_g_[next_slot_ * size_];
+    for (std::size_t i = 0; i < size_; ++i) {
+        df[i] = f_[i] - previous_f_[i];
+        dg[i] = g[i] - previous_g_[i];
+    }
+    next_slot_ = (next_slot_ + 1) % memory_;
+    count_ = std::min(count_ + 1, memory_);
+    std::copy(f_.begin(), f_.end(), previous_f_.begin());
+    std::copy(g.begin(), g.end(), previous_g_.begin());
+
+    // γ = argmin |f - ΔF γ|, by the normal equations with a little Tikhonov
+    // damping so that nearly dependent columns stay harmless.
+    const std::size_t m = count_;
+    double trace = 0.0;
+    for (std::size_t a = 0; a < m; ++a) {
+        for (std::size_t b = a; b < m; ++b) {
+            const double v = dot(&delta_f_[a * size_], &delta_f_[b * size_], size_);
+            gram_[a * m + b] = gram_[b * m + a] = v;
+        }
+        trace += gram_[a * m + a];
+        gamma_[a] = dot(&delta_f_[a * size_], f_.data(), size_);
+    }
+    for (std::size_t a = 0; a < m; ++a) gram_[a * m + a] += 1e-12 * trace;
+    if (!(trace > 0.0) || !solve_small(gram_, gamma_, m)) {
+        restart();
+        return;
+    }
+    for (std::size_t a = 0; a < m; ++a) {
+        const double* column = &delta_g_[a * size_];
+        for (std::size_t i = 0; i < size_; ++i) next[i] -= gamma_[a] * column[i];
+    }
+}
+
+}  // namespace dfm::deform

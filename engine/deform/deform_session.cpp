@@ -1,0 +1,297 @@
+#include "deform/deform_session.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <new>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+namespace dfm::deform {
+
+namespace {
+
+double elapsed_ms(std::chrono::steady_clock::time_point since) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)
+        .count();
+}
+
+double face_area(const mesh::Mesh& mesh, std::span<const glm::dvec3> p, std::uint32_t f) {
+    const mesh::Triangle& t = mesh.triangles[f];
+    return 0.5 * glm::length(glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]));
+}
+
+}  // namespace
+
+Status DeformSession::create(const MeshModel& model, std::span<const std::uint32_t> roi,
+                             std::span<const std::vector<std::uint32_t>> handle_groups,
+                             const DeformSettings& settings, std::unique_ptr<DeformSession>& out) {
+    out.reset();
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t n = model.mesh.vertex_count();
+    if (!(settings.tolerance > 0.0) || settings.max_iterations < 1 ||
+        !(settings.handle_weight > 0.0) || !(settings.regularization >= 0.0) ||
+        !(settings.linear_tolerance > 0.0) || settings.anderson_memory < 0 ||
+        settings.anderson_memory > 50) {
+        return Status(Errc::invalid_argument,
+                      "solver settings: tolerance, handle weight and linear tolerance must be "
+                      "positive, the iteration cap at least 1, the regularization not negative, "
+                      "the Anderson memory from 0 to 50");
+    }
+    try {
+        std::unique_ptr<DeformSession> s(new DeformSession(model));
+        s->settings_ = settings;
+        std::vector<std::uint8_t> in_roi(n, 0);
+        for (std::uint32_t v : roi) {
+            if (v >= n) {
+                return Status(Errc::out_of_range, "ROI vertex " + std::to_string(v) +
+                                                      " is out of range (the mesh has " +
+                                                      std::to_string(n) + " vertices)");
+            }
+            in_roi[v] = 1;
+        }
+        // ROI vertices next to the outside stay put: they stitch the edit to
+        // the rest of the mesh.
+        std::vector<std::uint8_t> movable(in_roi);
+        bool has_boundary = false;
+        for (std::uint32_t v = 0; v < n; ++v) {
+            if (!in_roi[v]) continue;
+            for (std::uint32_t w : model.vertex_neighbors.of(v)) {
+                if (!in_roi[w]) {
+                    movable[v] = 0;
+                    has_boundary = true;
+                    break;
+                }
+            }
+        }
+        for (std::size_t g = 0; g < handle_groups.size(); ++g) {
+            for (std::uint32_t v : handle_groups[g]) {
+                const std::string where =
+                    "handle group " + std::to_string(g) + ": vertex " + std::to_string(v);
+                if (v >= n) {
+                    return Status(Errc::out_of_range, where + " is out of range (the mesh has " +
+                                                          std::to_string(n) + " vertices)");
+                }
+                if (!in_roi[v]) return Status(Errc::invalid_argument, where + " is outside the ROI");
+                if (!movable[v]) {
+                    return Status(Errc::invalid_argument,
+                                  where + " is on the ROI's boundary, which stays fixed");
+                }
+                s->handle_vertices_.push_back(v);
+            }
+        }
+        if (s->handle_vertices_.empty() && !has_boundary) {
+            return Status(Errc::invalid_argument,
+                          "nothing pins the ROI: it has no boundary, so it needs a handle group");
+        }
+        if (settings.hard_handles) {
+            for (std::uint32_t v : s->handle_vertices_) movable[v] = 0;
+        }
+
+        UnknownMap& u = s->unknowns_;
+        u.unknown_of_vertex.assign(n, mesh::no_index);
+        for (std::uint32_t v = 0; v < n; ++v) {
+            if (!movable[v]) continue;
+            u.unknown_of_vertex[v] = static_cast<std::uint32_t>(u.vertex_of_unknown.size());
+            u.vertex_of_unknown.push_back(v);
+        }
+        if (!settings.hard_handles) {
+            for (std::uint32_t v : s->handle_vertices_) {
+                s->soft_handles_.push_back(u.unknown_of_vertex[v]);
+            }
+        }
+        s->rows_ = collect_rows(model, u);
+        solver::CsrMatrix normal =
+            assemble_normal_matrix(s->rows_, u.count(), s->soft_handles_, settings.handle_weight,
+                                   settings.regularization, s->epsilon_);
+        const std::size_t normal_nonzeros = normal.nonzeros();
+        if (Status st = s->linear_.setup(std::move(normal), settings.preconditioner); !st) {
+            return st;
+        }
+
+        s->positions_ = model.mesh.positions;
+        s->targets_.resize(s->handle_vertices_.size());
+        for (std::size_t h = 0; h < s->handle_vertices_.size(); ++h) {
+            s->targets_[h] = s->positions_[s->handle_vertices_[h]];
+        }
+        s->centroids_.assign(model.mesh.face_count(), glm::dvec3(0.0));
+        s->dual_targets_.resize(s->rows_.size());
+        s->rhs_.resize(3 * u.count());
+        s->x_.resize(3 * u.count());
+        s->current_.resize(3 * u.count());
+        s->next_.resize(3 * u.count());
+        s->anderson_.reset(3 * u.count(), static_cast<std::size_t>(settings.anderson_memory));
+        s->setup_.unknowns = u.count();
+        s->setup_.rows = s->rows_.size();
+        s->setup_.normal_nonzeros = normal_nonzeros;
+        s->setup_.setup_ms = elapsed_ms(start);
+        out = std::move(s);
+        return Status::ok();
+    } catch (const std::bad_alloc&) {
+        return Status(Errc::out_of_memory, "out of memory while setting up the edit");
+    }
+}
+
+Status DeformSession::set_targets(std::span<const glm::dvec3> targets) {
+    if (targets.size() != handle_vertices_.size()) {
+        return Status(Errc::invalid_argument,
+                      "expected " + std::to_string(handle_vertices_.size()) + " targets, got " +
+                          std::to_string(targets.size()));
+    }
+    for (std::size_t h = 0; h < targets.size(); ++h) {
+        const glm::dvec3& t = targets[h];
+        if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z)) {
+            return Status(Errc::invalid_argument,
+                          "target " + std::to_string(h) + " (vertex " +
+                              std::to_string(handle_vertices_[h]) + ") is not finite");
+        }
+    }
+    std::copy(targets.begin(), targets.end(), targets_.begin());
+    if (settings_.hard_handles) {
+        for (std::size_t h = 0; h < targets_.size(); ++h) {
+            positions_[handle_vertices_[h]] = targets_[h];
+        }
+    }
+    return Status::ok();
+}
+
+Status DeformSession::set_positions(std::span<const glm::dvec3> positions) {
+    if (positions.size() != positions_.size()) {
+        return Status(Errc::invalid_argument, "expected " + std::to_string(positions_.size()) +
+                                                  " positions, got " +
+                                                  std::to_string(positions.size()));
+    }
+    for (std::uint32_t v : unknowns_.vertex_of_unknown) {
+        const glm::dvec3& p = positions[v];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            return Status(Errc::invalid_argument,
+                          "position of vertex " + std::to_string(v) + " is not finite");
+        }
+    }
+    for (std::uint32_t v : unknowns_.vertex_of_unknown) positions_[v] = positions[v];
+    return Status::ok();
+}
+
+// Step 2 of the iteration: l_r = -h n, with the rest height and the normal
+// of the current 1-ring.
+void DeformSession::compute_dual_targets() {
+    const mesh::Mesh& mesh = model_.mesh;
+    for (std::uint32_t f : rows_.centroid_faces) {
+        const mesh::Triangle& t = mesh.triangles[f];
+        centroids_[f] = (positions_[t[0]] + positions_[t[1]] + positions_[t[2]]) / 3.0;
+    }
+    for (std::size_t r = 0; r < rows_.size(); ++r) {
+        const std::uint32_t f = rows_.faces[r];
+        double h = model_.dual.heights[f];
+        if (settings_.scale_heights) {
+            const double rest = face_area(mesh, mesh.positions, f);
+            if (rest > 0.0) h *= std::sqrt(face_area(mesh, positions_, f) / rest);
+        }
+        dual_targets_[r] = -h * dual::ring_normal(model_.dual, centroids_, f);
+    }
+}
+
+// rhs = Aᵀ (l - A_fixed p_fixed) + w² u + ε x_previous.
+void DeformSession::compute_right_hand_side() {
+    std::fill(rhs_.begin(), rhs_.end(), 0.0);
+    for (std::size_t r = 0; r < rows_.size(); ++r) {
+        glm::dvec3 b = dual_targets_[r];
+        for (std::uint32_t p = rows_.entry_offsets[r]; p < rows_.entry_offsets[r + 1]; ++p) {
+            const RowEntry& e = rows_.entries[p];
+            if (e.unknown == mesh::no_index) b -= e.coefficient * positions_[e.vertex];
+        }
+        for (std::uint32_t p = rows_.entry_offsets[r]; p < rows_.entry_offsets[r + 1]; ++p) {
+            const RowEntry& e = rows_.entries[p];
+            if (e.unknown == mesh::no_index) continue;
+            for (int c = 0; c < 3; ++c) rhs_[3 * e.unknown + c] += e.coefficient * b[c];
+        }
+    }
+    const double w2 = settings_.handle_weight * settings_.handle_weight;
+    for (std::size_t h = 0; h < soft_handles_.size(); ++h) {
+        for (int c = 0; c < 3; ++c) rhs_[3 * soft_handles_[h] + c] += w2 * targets_[h][c];
+    }
+    for (std::size_t i = 0; i < unknowns_.count(); ++i) {
+        const glm::dvec3& p = positions_[unknowns_.vertex_of_unknown[i]];
+        for (int c = 0; c < 3; ++c) rhs_[3 * i + c] += epsilon_ * p[c];
+    }
+}
+
+void DeformSession::store_solution() {
+    for (std::size_t i = 0; i < unknowns_.count(); ++i) {
+        positions_[unknowns_.vertex_of_unknown[i]] = {x_[3 * i], x_[3 * i + 1], x_[3 * i + 2]};
+    }
+}
+
+Status DeformSession::solve(SolveReport& report) {
+    report = SolveReport{};
+    const auto start = std::chrono::steady_clock::now();
+    const double diag = model_.diagonal > 0.0 ? model_.diagonal : 1.0;
+    for (std::size_t i = 0; i < unknowns_.count(); ++i) {
+        const glm::dvec3& p = positions_[unknowns_.vertex_of_unknown[i]];
+        for (int c = 0; c < 3; ++c) current_[3 * i + c] = p[c];
+    }
+    std::copy(current_.begin(), current_.end(), x_.begin());
+    anderson_.restart();
+    double smallest_update = std::numeric_limits<double>::infinity();
+    for (int it = 0; it < settings_.max_iterations; ++it) {
+        compute_dual_targets();
+        compute_right_hand_side();
+        std::size_t krylov = 0;
+        if (Status s = linear_.solve(rhs_, x_, settings_.linear_tolerance * diag,
+                                     LinearSolver::Accuracy::one_step, krylov);
+            !s) {
+            report.solve_ms = elapsed_ms(start);
+            return s;
+        }
+        report.krylov_iterations += krylov;
+        // The plain step's length |G(x) - x| is the convergence measure. NaN
+        // fails every comparison, so a non-finite solution shows as a
+        // non-finite length; the positions keep the last good state.
+        double largest = 0.0;
+        for (std::size_t i = 0; i < unknowns_.count(); ++i) {
+            const glm::dvec3 step(x_[3 * i] - current_[3 * i], x_[3 * i + 1] - current_[3 * i + 1],
+                                  x_[3 * i + 2] - current_[3 * i + 2]);
+            const double move = glm::length(step);
+            largest = std::isfinite(move) ? std::max(largest, move) : move;
+            if (!std::isfinite(largest)) break;
+        }
+        report.iterations = it + 1;
+        report.last_update = largest / diag;
+        if (!std::isfinite(report.last_update)) {
+            report.solve_ms = elapsed_ms(start);
+            return Status(Errc::numerical, "the solve produced non-finite positions; the last "
+                                           "finite result is kept");
+        }
+        if (report.last_update < settings_.tolerance) {
+            store_solution();
+            report.converged = true;
+            break;
+        }
+        // The extrapolated iterates are not monotone, and restarting at every
+        // growth stalls them (measured on the whole cow); a step more than
+        // twice the smallest so far means the history has gone astray.
+        if (report.last_update > 2.0 * smallest_update) anderson_.restart();
+        smallest_update = std::min(smallest_update, report.last_update);
+        anderson_.step(current_, x_, next_);
+        std::copy(next_.begin(), next_.end(), current_.begin());
+        std::copy(next_.begin(), next_.end(), x_.begin());
+        store_solution();
+    }
+    // The last linear solve, confirmed to its tolerance: what the host gets
+    // is the solution of the last system, not one unchecked step of it.
+    std::size_t krylov = 0;
+    if (Status s = linear_.solve(rhs_, x_, settings_.linear_tolerance * diag,
+                                 LinearSolver::Accuracy::verified, krylov);
+        !s) {
+        report.solve_ms = elapsed_ms(start);
+        return s;
+    }
+    report.krylov_iterations += krylov;
+    store_solution();
+    report.solve_ms = elapsed_ms(start);
+    return Status::ok();
+}
+
+}  // namespace dfm::deform

@@ -1,0 +1,99 @@
+#include "deform/linear_solver.hpp"
+
+#include <new>
+#include <string>
+#include <vector>
+
+#include "solver/pbcg.hpp"
+#include "solver/preconditioner.hpp"
+
+namespace dfm::deform {
+
+const char* preconditioner_name(Preconditioner p) {
+    switch (p) {
+        case Preconditioner::jacobi: return "jacobi";
+        case Preconditioner::incomplete_cholesky: return "incomplete_cholesky";
+        case Preconditioner::cholesky: return "cholesky";
+    }
+    return "unknown";
+}
+
+namespace {
+
+solver::PreconditionerKind kind_of(Preconditioner p) {
+    switch (p) {
+        case Preconditioner::jacobi: return solver::PreconditionerKind::jacobi;
+        case Preconditioner::incomplete_cholesky:
+            return solver::PreconditionerKind::incomplete_cholesky;
+        case Preconditioner::cholesky: return solver::PreconditionerKind::cholesky;
+    }
+    return solver::PreconditionerKind::cholesky;
+}
+
+}  // namespace
+
+struct LinearSolver::State {
+    solver::CsrMatrix matrix;
+    std::unique_ptr<solver::Preconditioner> preconditioner;
+    solver::PbcgWorkspace workspace;
+    solver::PbcgResult result;
+    bool exact = false;  // the preconditioner is the complete factor of the matrix
+    std::vector<double> residual;
+    std::vector<double> correction;
+};
+
+LinearSolver::LinearSolver() = default;
+LinearSolver::~LinearSolver() = default;
+LinearSolver::LinearSolver(LinearSolver&&) noexcept = default;
+LinearSolver& LinearSolver::operator=(LinearSolver&&) noexcept = default;
+
+Status LinearSolver::setup(solver::CsrMatrix matrix, Preconditioner preconditioner) {
+    auto state = std::make_unique<State>();
+    state->matrix = std::move(matrix);
+    state->preconditioner = solver::make_preconditioner(kind_of(preconditioner));
+    if (Status s = state->preconditioner->setup(state->matrix); !s) return s;
+    state->preconditioner->reserve(3);
+    state->workspace = solver::PbcgWorkspace(state->matrix.rows, 3);
+    state->result.columns.resize(3);
+    state->exact = preconditioner == Preconditioner::cholesky;
+    state->residual.resize(3 * state->matrix.rows);
+    state->correction.resize(3 * state->matrix.rows);
+    state_ = std::move(state);
+    return Status::ok();
+}
+
+Status LinearSolver::solve(std::span<const double> rhs, std::span<double> x, double tolerance,
+                           Accuracy accuracy, std::size_t& iterations) {
+    State& s = *state_;
+    if (s.exact && accuracy == Accuracy::one_step) {
+        // With the complete factor one correction is the exact solution up to
+        // rounding; the check that would confirm it costs a second solve, so
+        // inside the outer iteration it is left to the final, verified solve.
+        s.matrix.multiply(x, s.residual, 3);
+        for (std::size_t i = 0; i < rhs.size(); ++i) s.residual[i] = rhs[i] - s.residual[i];
+        s.preconditioner->apply(s.residual, s.correction, 3);
+        for (std::size_t i = 0; i < x.size(); ++i) x[i] += s.correction[i];
+        iterations = 1;
+        return Status::ok();
+    }
+    solver::PbcgOptions options;
+    options.tolerance = tolerance;
+    if (Status st = solver::pbcg_solve(s.matrix, *s.preconditioner, rhs, x, 3, options,
+                                       s.workspace, s.result);
+        !st) {
+        return st;
+    }
+    iterations = s.result.iterations;
+    for (const solver::PbcgColumnResult& c : s.result.columns) {
+        if (c.breakdown && !c.converged) {
+            return Status(Errc::numerical, "the linear solve broke down");
+        }
+    }
+    if (accuracy == Accuracy::verified && !s.result.converged) {
+        return Status(Errc::numerical, "the linear solve did not reach its tolerance in " +
+                                           std::to_string(iterations) + " iterations");
+    }
+    return Status::ok();
+}
+
+}  // namespace dfm::deform

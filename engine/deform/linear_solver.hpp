@@ -1,0 +1,47 @@
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <span>
+
+#include "core/status.hpp"
+#include "solver/csr_matrix.hpp"
+
+namespace dfm::deform {
+
+enum class Preconditioner { jacobi, incomplete_cholesky, cholesky };
+
+const char* preconditioner_name(Preconditioner p);
+
+// The normal matrix of an edit, prepared once and solved for x, y and z
+// together every iteration. Owns the matrix, the preconditioner and the
+// Krylov workspace, so a solve allocates nothing.
+class LinearSolver {
+public:
+    LinearSolver();
+    ~LinearSolver();
+    LinearSolver(LinearSolver&&) noexcept;
+    LinearSolver& operator=(LinearSolver&&) noexcept;
+
+    Status setup(solver::CsrMatrix matrix, Preconditioner preconditioner);
+
+    enum class Accuracy {
+        // Inside the outer iteration: with the complete factor, one step
+        // (exact up to rounding, unconfirmed); otherwise to the tolerance.
+        one_step,
+        // To the tolerance, confirmed by the error estimate; failing that is
+        // an error.
+        verified,
+    };
+
+    // Solves N x = rhs (3 interleaved columns) starting from x; the
+    // tolerance bounds the estimated error |M⁻¹ r|∞ in solution units.
+    Status solve(std::span<const double> rhs, std::span<double> x, double tolerance,
+                 Accuracy accuracy, std::size_t& iterations);
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+}  // namespace dfm::deform

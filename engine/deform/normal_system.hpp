@@ -1,0 +1,50 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "deform/mesh_model.hpp"
+#include "solver/csr_matrix.hpp"
+
+// The least-squares system of one edit: the dual Laplacian rows that touch
+// an unknown, and the normal matrix N = AᵀA + w² H + ε I over the unknowns.
+namespace dfm::deform {
+
+// The vertices a solve moves, numbered 0..count-1.
+struct UnknownMap {
+    std::vector<std::uint32_t> unknown_of_vertex;  // no_index for a fixed vertex
+    std::vector<std::uint32_t> vertex_of_unknown;
+
+    std::size_t count() const { return vertex_of_unknown.size(); }
+};
+
+struct RowEntry {
+    std::uint32_t vertex;
+    std::uint32_t unknown;  // no_index: a fixed vertex, moved to the right-hand side
+    double coefficient;
+};
+
+struct SystemRows {
+    std::vector<std::uint32_t> faces;          // the face whose dual row each row is
+    std::vector<std::uint32_t> entry_offsets;  // entries of row r: [offsets[r], offsets[r + 1])
+    std::vector<RowEntry> entries;
+    // Faces whose centroids the rows read: the rows' faces and their 1-rings.
+    std::vector<std::uint32_t> centroid_faces;
+
+    std::size_t size() const { return faces.size(); }
+};
+
+SystemRows collect_rows(const MeshModel& model, const UnknownMap& unknowns);
+
+// Assembles N with sorted, duplicate-free rows. `soft_handles` are the
+// unknowns tied to targets with weight `handle_weight`. ε is
+// `relative_epsilon` times the mean diagonal of AᵀA + w² H, returned in
+// `epsilon`: it ties the part of the solution that D cannot see (the
+// three-colour pattern of DESIGN.md) to the previous iterate.
+solver::CsrMatrix assemble_normal_matrix(const SystemRows& rows, std::size_t unknown_count,
+                                         std::span<const std::uint32_t> soft_handles,
+                                         double handle_weight, double relative_epsilon,
+                                         double& epsilon);
+
+}  // namespace dfm::deform

@@ -1,0 +1,205 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numeric>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "deform/deform_session.hpp"
+#include "deform/linear_solver.hpp"
+#include "deform/normal_system.hpp"
+#include "deform/quality.hpp"
+#include "mesh/load.hpp"
+#include "mesh/model_cache.hpp"
+#include "roi/ball_selection.hpp"
+
+using namespace dfm;
+
+namespace {
+
+deform::MeshModel load_model(const std::string& name) {
+    std::filesystem::path path;
+    REQUIRE(mesh::resolve_mesh_spec("model:" + name, {}, path).is_ok());
+    mesh::Mesh m;
+    REQUIRE(mesh::load_mesh(path, m).is_ok());
+    return deform::build_mesh_model(std::move(m));
+}
+
+std::vector<std::uint32_t> ball(const deform::MeshModel& model, std::uint32_t center, double radius) {
+    std::vector<std::uint32_t> out;
+    REQUIRE(roi::select_ball(model.mesh.positions, model.vertex_neighbors, center,
+                             radius * model.diagonal, out)
+                .is_ok());
+    return out;
+}
+
+std::vector<std::uint32_t> all_vertices(const deform::MeshModel& model) {
+    std::vector<std::uint32_t> v(model.mesh.vertex_count());
+    std::iota(v.begin(), v.end(), 0u);
+    return v;
+}
+
+}  // namespace
+
+TEST_CASE("cow: A V gives the dual Laplacian coordinates of the rest mesh") {
+    const deform::MeshModel model = load_model("cow");
+    std::vector<glm::dvec3> c(model.mesh.face_count());
+    dual::compute_centroids(model.mesh, model.mesh.positions, c);
+    double worst = 0.0;
+    double largest = 0.0;
+    for (std::uint32_t f = 0; f < model.mesh.face_count(); ++f) {
+        REQUIRE(model.dual.has_row[f]);
+        const dual::DualRow row = dual::dual_row(model.mesh, model.dual, f);
+        glm::dvec3 av(0.0);
+        for (std::uint32_t k = 0; k < row.size; ++k) {
+            av += row.coefficients[k] * model.mesh.positions[row.vertices[k]];
+        }
+        const glm::dvec3 l = -model.dual.heights[f] * dual::ring_normal(model.dual, c, f);
+        worst = std::max(worst, glm::length(av - l));
+        largest = std::max(largest, glm::length(l));
+    }
+    CHECK(worst <= 1e-12 * largest);
+}
+
+TEST_CASE("cow: the dual Laplacian and one fixed vertex rebuild the mesh") {
+    const deform::MeshModel model = load_model("cow");
+    deform::UnknownMap unknowns;
+    unknowns.unknown_of_vertex.assign(model.mesh.vertex_count(), mesh::no_index);
+    for (std::uint32_t v = 1; v < model.mesh.vertex_count(); ++v) {
+        unknowns.unknown_of_vertex[v] = static_cast<std::uint32_t>(unknowns.count());
+        unknowns.vertex_of_unknown.push_back(v);
+    }
+    const deform::SystemRows rows = deform::collect_rows(model, unknowns);
+    double epsilon = 0.0;
+    solver::CsrMatrix n = deform::assemble_normal_matrix(rows, unknowns.count(), {}, 1.0, 0.0, epsilon);
+    CHECK(epsilon == 0.0);
+    std::vector<double> rhs(3 * unknowns.count(), 0.0);
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+        // b = l_rest - A_fixed p_fixed, with l_rest = -h n = A V_rest: the
+        // unknowns' part of A V_rest.
+        glm::dvec3 b(0.0);
+        for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
+            const deform::RowEntry& e = rows.entries[p];
+            if (e.unknown != mesh::no_index) b += e.coefficient * model.mesh.positions[e.vertex];
+        }
+        for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
+            const deform::RowEntry& e = rows.entries[p];
+            if (e.unknown != mesh::no_index) {
+                for (int c = 0; c < 3; ++c) rhs[3 * e.unknown + c] += e.coefficient * b[c];
+            }
+        }
+    }
+    deform::LinearSolver solver;
+    REQUIRE(solver.setup(std::move(n), deform::Preconditioner::cholesky).is_ok());
+    std::vector<double> x(rhs.size(), 0.0);  // start far away: everything at the origin
+    std::size_t iterations = 0;
+    REQUIRE(solver.solve(rhs, x, 1e-12 * model.diagonal, deform::LinearSolver::Accuracy::verified,
+                         iterations)
+                .is_ok());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < unknowns.count(); ++i) {
+        const glm::dvec3 p(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+        worst = std::max(worst, glm::length(p - model.mesh.positions[unknowns.vertex_of_unknown[i]]));
+    }
+    CHECK(worst < 1e-8 * model.diagonal);
+}
+
+TEST_CASE("cow: zero handle motion returns the rest mesh; outside the ROI is bit-identical") {
+    const deform::MeshModel model = load_model("cow");
+    const std::vector<std::uint32_t> roi = ball(model, 771, 0.2);
+    const std::vector<std::vector<std::uint32_t>> groups = {ball(model, 771, 0.03)};
+    std::unique_ptr<deform::DeformSession> s;
+    REQUIRE(deform::DeformSession::create(model, roi, groups, {}, s).is_ok());
+    deform::SolveReport r;
+    REQUIRE(s->solve(r).is_ok());
+    CHECK(r.converged);
+    for (std::size_t v = 0; v < model.mesh.vertex_count(); ++v) {
+        CHECK(glm::length(s->positions()[v] - model.mesh.positions[v]) < 1e-9 * model.diagonal);
+    }
+
+    std::vector<glm::dvec3> targets(s->targets().begin(), s->targets().end());
+    for (glm::dvec3& t : targets) t += glm::dvec3(0.08, 0.03, 0.0) * model.diagonal;
+    REQUIRE(s->set_targets(targets).is_ok());
+    REQUIRE(s->solve(r).is_ok());
+    CHECK(r.converged);
+    std::vector<std::uint8_t> in_roi(model.mesh.vertex_count(), 0);
+    for (std::uint32_t v : roi) in_roi[v] = 1;
+    std::size_t outside = 0;
+    for (std::size_t v = 0; v < model.mesh.vertex_count(); ++v) {
+        if (in_roi[v]) continue;
+        ++outside;
+        CHECK(s->positions()[v] == model.mesh.positions[v]);
+    }
+    CHECK(outside > 2000);
+    const deform::QualityReport q =
+        deform::measure_quality(model, s->positions(), in_roi, s->handle_vertices(), s->targets());
+    CHECK(q.max_fixed_move == 0.0);
+    CHECK(q.max_handle_error < 1e-3);
+    CHECK(q.flipped_faces == 0);
+}
+
+TEST_CASE("cow: rotating both ends of the whole mesh by 45 degrees gives the rotated cow") {
+    const deform::MeshModel model = load_model("cow");
+    // The snout and the tail tip, at opposite ends of the cow.
+    std::uint32_t lo = 0;
+    std::uint32_t hi = 0;
+    for (std::uint32_t v = 0; v < model.mesh.vertex_count(); ++v) {
+        if (model.mesh.positions[v].x < model.mesh.positions[lo].x) lo = v;
+        if (model.mesh.positions[v].x > model.mesh.positions[hi].x) hi = v;
+    }
+    const std::vector<std::vector<std::uint32_t>> groups = {ball(model, lo, 0.05), ball(model, hi, 0.05)};
+    const glm::dmat4 rot =
+        glm::rotate(glm::dmat4(1.0), glm::radians(45.0), glm::normalize(glm::dvec3(0.3, 1.0, 0.2)));
+    auto rotated = [&](const glm::dvec3& p) { return glm::dvec3(rot * glm::dvec4(p, 1.0)); };
+    deform::DeformSettings settings;
+    settings.tolerance = 1e-8;
+    settings.max_iterations = 300;
+    std::unique_ptr<deform::DeformSession> s;
+    REQUIRE(deform::DeformSession::create(model, all_vertices(model), groups, settings, s).is_ok());
+    std::vector<glm::dvec3> targets;
+    for (std::uint32_t v : s->handle_vertices()) targets.push_back(rotated(model.mesh.positions[v]));
+    REQUIRE(s->set_targets(targets).is_ok());
+    deform::SolveReport r;
+    REQUIRE(s->solve(r).is_ok());
+    double worst = 0.0;
+    for (std::size_t v = 0; v < model.mesh.vertex_count(); ++v) {
+        worst = std::max(worst, glm::length(s->positions()[v] - rotated(model.mesh.positions[v])));
+    }
+    CAPTURE(r.iterations);
+    CHECK(r.converged);
+    CHECK(worst < 1e-4 * model.diagonal);
+}
+
+TEST_CASE("cow with a hole cut in it: finite everywhere, handles met") {
+    deform::MeshModel cow = load_model("cow");
+    // Remove every face around the flank vertex 1500 and its ring.
+    const std::vector<std::uint32_t> hole = ball(cow, 1500, 0.04);
+    std::vector<std::uint8_t> cut(cow.mesh.vertex_count(), 0);
+    for (std::uint32_t v : hole) cut[v] = 1;
+    mesh::Mesh m = cow.mesh;
+    std::erase_if(m.triangles, [&](const mesh::Triangle& t) { return cut[t[0]] && cut[t[1]] && cut[t[2]]; });
+    REQUIRE(m.face_count() < cow.mesh.face_count());
+    const deform::MeshModel model = deform::build_mesh_model(std::move(m));
+    CHECK(model.dual.boundary_faces > 0);
+    const std::vector<std::uint32_t> roi = ball(model, 1500, 0.3);
+    std::uint32_t far = roi.front();
+    for (std::uint32_t v : roi) {
+        if (!cut[v] && glm::length(model.mesh.positions[v] - model.mesh.positions[1500]) >
+                           glm::length(model.mesh.positions[far] - model.mesh.positions[1500]) &&
+            glm::length(model.mesh.positions[v] - model.mesh.positions[1500]) < 0.2 * model.diagonal) {
+            far = v;
+        }
+    }
+    const std::vector<std::vector<std::uint32_t>> groups = {{far}};
+    std::unique_ptr<deform::DeformSession> s;
+    REQUIRE(deform::DeformSession::create(model, roi, groups, {}, s).is_ok());
+    const glm::dvec3 target = model.mesh.positions[far] + glm::dvec3(0.0, 0.05, 0.0) * model.diagonal;
+    REQUIRE(s->set_targets(std::span(&target, 1)).is_ok());
+    deform::SolveReport r;
+    REQUIRE(s->solve(r).is_ok());
+    for (const glm::dvec3& p : s->positions()) {
+        REQUIRE(std::isfinite(p.x + p.y + p.z));
+    }
+    CHECK(glm::length(s->positions()[far] - target) < 1e-2 * model.diagonal);
+}

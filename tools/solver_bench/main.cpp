@@ -1,0 +1,171 @@
+// solver_bench: times the sparse solver on systems with the sparsity of a
+// real edit (vertex 2-rings of real meshes) and prints JSON.
+//
+// usage: solver_bench [--models cow,armadillo] [--subdivide S] [--threads T]
+//                     [--repeat R] [--tolerance F] [--max-iterations M]
+//                     [--krylov-max-vertices V]
+//   --subdivide S   also each model split into 4^s times the triangles, s ≤ S
+//   --tolerance F   PCG stops at max |M⁻¹ r| ≤ F × the bounding-box diagonal
+//   --krylov-max-vertices V   Jacobi and IC(0) runs only up to V vertices
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include "json.hpp"
+#include "measure.hpp"
+#include "mesh/load.hpp"
+#include "mesh/model_cache.hpp"
+
+namespace {
+
+using namespace dfm;
+using namespace dfm::solver_bench;
+
+struct Settings {
+    std::vector<std::string> models = {"cow", "armadillo"};
+    int subdivide = 1;
+    std::size_t threads = std::max(1u, std::thread::hardware_concurrency());
+    int repeat = 5;
+    double tolerance = 1e-10;
+    std::size_t max_iterations = 1000;
+    std::size_t krylov_max_vertices = 150000;
+};
+
+std::vector<std::string> split(std::string_view list) {
+    std::vector<std::string> out;
+    while (!list.empty()) {
+        const std::size_t comma = list.find(',');
+        out.emplace_back(list.substr(0, comma));
+        list = comma == std::string_view::npos ? std::string_view{} : list.substr(comma + 1);
+    }
+    return out;
+}
+
+bool parse(int argc, char** argv, Settings& s) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string_view arg = argv[i];
+        if (i + 1 >= argc) return false;
+        const char* value = argv[++i];
+        if (arg == "--models") {
+            s.models = split(value);
+        } else if (arg == "--subdivide") {
+            s.subdivide = std::atoi(value);
+        } else if (arg == "--threads") {
+            s.threads = static_cast<std::size_t>(std::max(1, std::atoi(value)));
+        } else if (arg == "--repeat") {
+            s.repeat = std::max(1, std::atoi(value));
+        } else if (arg == "--tolerance") {
+            s.tolerance = std::atof(value);
+        } else if (arg == "--max-iterations") {
+            s.max_iterations = static_cast<std::size_t>(std::atol(value));
+        } else if (arg == "--krylov-max-vertices") {
+            s.krylov_max_vertices = static_cast<std::size_t>(std::atol(value));
+        } else {
+            return false;
+        }
+    }
+    return true;
+}
+
+void write_factor(Json& json, const FactorMeasure& f) {
+    json.begin_object()
+        .field("ordering", solver::ordering_method_name(f.ordering))
+        .field("graph_ms", f.graph_ms)
+        .field("ordering_ms", f.ordering_ms)
+        .field("symbolic_ms", f.symbolic_ms)
+        .field("numeric_ms", f.numeric_ms)
+        .field("setup_ms", f.setup_ms)
+        .field("solve_k3_ms", f.solve_k3_ms)
+        .field("factor_nonzeros", f.factor_nonzeros)
+        .field("stored_values", f.stored_values)
+        .field("supernodes", f.supernodes)
+        .field("flops", f.flops)
+        .field("solve_relative_residual", f.solve_relative_residual)
+        .end_object();
+}
+
+void write_solve(Json& json, const SolveMeasure& s) {
+    json.begin_object()
+        .field("preconditioner", s.preconditioner.c_str())
+        .field("start", s.warm ? "warm" : "cold")
+        .field("setup_ms", s.setup_ms)
+        .field("solve_ms", s.solve_ms)
+        .field("iterations", s.iterations)
+        .field("converged", s.converged)
+        .field("error_estimate_over_diagonal", s.error_estimate)
+        .field("true_error_over_diagonal", s.true_error)
+        .field("relative_residual", s.relative_residual)
+        .end_object();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Settings settings;
+    if (!parse(argc, argv, settings)) {
+        std::fprintf(stderr,
+                     "usage: solver_bench [--models cow,armadillo] [--subdivide S] [--threads T] "
+                     "[--repeat R] [--tolerance F] [--max-iterations M] "
+                     "[--krylov-max-vertices V]\n");
+        return 2;
+    }
+    solver::ThreadPool pool(settings.threads);
+    Json json;
+    json.begin_object()
+        .field("threads", settings.threads)
+        .field("hardware_threads", static_cast<std::size_t>(std::thread::hardware_concurrency()))
+        .field("tolerance_over_diagonal", settings.tolerance)
+        .key("systems")
+        .begin_array();
+    for (const std::string& model : settings.models) {
+        std::filesystem::path path;
+        mesh::Mesh base;
+        if (Status st = mesh::resolve_mesh_spec("model:" + model, ".", path); !st) {
+            std::fprintf(stderr, "solver_bench: %s\n", st.message().c_str());
+            return 1;
+        }
+        if (Status st = mesh::load_mesh(path, base); !st) {
+            std::fprintf(stderr, "solver_bench: %s\n", st.message().c_str());
+            return 1;
+        }
+        mesh::Mesh mesh = base;
+        for (int level = 0; level <= settings.subdivide; ++level) {
+            if (level > 0) mesh = subdivide_midpoint(mesh);
+            const TestSystem system = make_test_system(mesh);
+            const std::size_t n = system.matrix.rows;
+            const int repeat = n > 200000 ? 1 : settings.repeat;
+            std::fprintf(stderr, "solver_bench: %s x%d, %zu unknowns\n", model.c_str(), level, n);
+            json.begin_object()
+                .field("model", model.c_str())
+                .field("subdivisions", static_cast<std::size_t>(level))
+                .field("unknowns", n)
+                .field("nonzeros", system.matrix.nonzeros())
+                .key("factor")
+                .begin_array();
+            for (const solver::OrderingMethod ordering :
+                 {solver::OrderingMethod::minimum_degree, solver::OrderingMethod::nested_dissection})
+                write_factor(json, measure_factor(system, ordering, pool, repeat));
+            json.end_array().key("pcg").begin_array();
+            const Frame frame = make_frame(system, mesh, pool);
+            const double tolerance = settings.tolerance * system.diagonal;
+            for (const solver::PreconditionerKind kind :
+                 {solver::PreconditionerKind::cholesky, solver::PreconditionerKind::incomplete_cholesky,
+                  solver::PreconditionerKind::jacobi}) {
+                if (kind != solver::PreconditionerKind::cholesky && n > settings.krylov_max_vertices)
+                    continue;
+                for (const bool warm : {true, false})
+                    write_solve(json, measure_pcg(system, frame, kind, warm, tolerance,
+                                                  settings.max_iterations, pool,
+                                                  kind == solver::PreconditionerKind::cholesky ? repeat : 1));
+            }
+            json.end_array().end_object();
+        }
+    }
+    json.end_array().end_object();
+    std::printf("%s\n", json.str().c_str());
+    return 0;
+}

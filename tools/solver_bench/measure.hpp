@@ -1,0 +1,60 @@
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "solver/ordering.hpp"
+#include "solver/preconditioner.hpp"
+#include "solver/thread_pool.hpp"
+#include "test_system.hpp"
+
+namespace dfm::solver_bench {
+
+// Times are the median over the repetitions, in milliseconds.
+struct FactorMeasure {
+    solver::OrderingMethod ordering{};
+    double graph_ms = 0.0;
+    double ordering_ms = 0.0;
+    double symbolic_ms = 0.0;
+    double numeric_ms = 0.0;
+    double setup_ms = 0.0;     // the four above, summed per run
+    double solve_k3_ms = 0.0;  // one forward and back solve for x, y and z
+    std::size_t factor_nonzeros = 0;
+    std::size_t stored_values = 0;
+    std::size_t supernodes = 0;
+    double flops = 0.0;
+    double solve_relative_residual = 0.0;
+};
+
+FactorMeasure measure_factor(const TestSystem& system, solver::OrderingMethod ordering,
+                             solver::ThreadPool& pool, int repeat);
+
+// One frame of a drag: the previous solution is the mesh itself, the handle
+// moves by 1% of the diagonal, the solve starts from the previous solution
+// (warm) or from zero (cold).
+struct Frame {
+    std::vector<double> rhs;
+    std::vector<double> previous;
+    std::vector<double> reference;  // the new solution, from a refined direct solve
+};
+
+Frame make_frame(const TestSystem& system, const mesh::Mesh& mesh, solver::ThreadPool& pool);
+
+struct SolveMeasure {
+    std::string preconditioner;
+    bool warm = false;
+    double setup_ms = 0.0;
+    double solve_ms = 0.0;
+    std::size_t iterations = 0;
+    bool converged = false;
+    double error_estimate = 0.0;     // max over x, y, z of max |M⁻¹ r|, over the diagonal
+    double relative_residual = 0.0;  // max over x, y, z
+    double true_error = 0.0;         // max |x − reference| over the diagonal
+};
+
+SolveMeasure measure_pcg(const TestSystem& system, const Frame& frame,
+                         solver::PreconditionerKind kind, bool warm, double tolerance,
+                         std::size_t max_iterations, solver::ThreadPool& pool, int repeat);
+
+}  // namespace dfm::solver_bench
