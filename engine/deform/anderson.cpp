@@ -52,6 +52,7 @@ void AndersonAccelerator::reset(std::size_t size, std::size_t memory) {
     delta_g_.assign(size * memory, 0.0);
     f_.assign(size, 0.0);
     gram_.assign(memory * memory, 0.0);
+    products_.assign(memory * memory, 0.0);
     gamma_.assign(memory, 0.0);
 }
 
@@ -66,9 +67,12 @@ void AndersonAccelerator::step(std::span<const double> x, std::span<const double
         return;
     }
     // The newest differences overwrite the oldest of `memory_` columns; the
-    // least-squares fit does not care about their order.
-    double* df = &delta_f_[next_slot_ * size_];
-    double* dg = &delta_g_[next_slot_ * size_];
+    // least-squares fit does not care about their order. Only the new
+    // column's inner products are computed: the rest of the Gram matrix is
+    // kept from earlier steps.
+    const std::size_t slot = next_slot_;
+    double* df = &delta_f_[slot * size_];
+    double* dg = &delta_g_[slot * size_];
     for (std::size_t i = 0; i < size_; ++i) {
         df[i] = f_[i] - previous_f_[i];
         dg[i] = g[i] - previous_g_[i];
@@ -77,16 +81,17 @@ void AndersonAccelerator::step(std::span<const double> x, std::span<const double
     count_ = std::min(count_ + 1, memory_);
     std::copy(f_.begin(), f_.end(), previous_f_.begin());
     std::copy(g.begin(), g.end(), previous_g_.begin());
+    for (std::size_t a = 0; a < count_; ++a) {
+        const double v = dot(&delta_f_[a * size_], df, size_);
+        products_[a * memory_ + slot] = products_[slot * memory_ + a] = v;
+    }
 
     // γ = argmin |f - ΔF γ|, by the normal equations with a little Tikhonov
     // damping so that nearly dependent columns stay harmless.
     const std::size_t m = count_;
     double trace = 0.0;
     for (std::size_t a = 0; a < m; ++a) {
-        for (std::size_t b = a; b < m; ++b) {
-            const double v = dot(&delta_f_[a * size_], &delta_f_[b * size_], size_);
-            gram_[a * m + b] = gram_[b * m + a] = v;
-        }
+        for (std::size_t b = 0; b < m; ++b) gram_[a * m + b] = products_[a * memory_ + b];
         trace += gram_[a * m + a];
         gamma_[a] = dot(&delta_f_[a * size_], f_.data(), size_);
     }

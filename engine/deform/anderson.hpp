@@ -38,7 +38,8 @@ private:
     std::vector<double> delta_f_;  // memory_ columns of size_
     std::vector<double> delta_g_;
     std::vector<double> f_;
-    std::vector<double> gram_;  // the least-squares normal equations
+    std::vector<double> products_;  // ΔFᵀΔF over the ring's slots, memory_ × memory_
+    std::vector<double> gram_;      // the normal equations of one step, count_ × count_
     std::vector<double> gamma_;
 };
 

@@ -289,6 +289,7 @@ Status DeformSession::solve(SolveReport& report) {
         return s;
     }
     report.krylov_iterations += krylov;
+    report.linear_residual = linear_.relative_residual();
     store_solution();
     report.solve_ms = elapsed_ms(start);
     return Status::ok();

@@ -37,6 +37,7 @@ struct SolveReport {
     bool converged = false;
     double last_update = 0.0;  // largest vertex move of the last iteration / diagonal
     std::size_t krylov_iterations = 0;
+    double linear_residual = 0.0;  // ‖b − N x‖ / ‖b‖ of the final, verified linear solve
     double solve_ms = 0.0;
 };
 

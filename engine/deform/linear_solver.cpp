@@ -1,5 +1,6 @@
 #include "deform/linear_solver.hpp"
 
+#include <algorithm>
 #include <new>
 #include <string>
 #include <vector>
@@ -38,8 +39,6 @@ struct LinearSolver::State {
     solver::PbcgWorkspace workspace;
     solver::PbcgResult result;
     bool exact = false;  // the preconditioner is the complete factor of the matrix
-    std::vector<double> residual;
-    std::vector<double> correction;
 };
 
 LinearSolver::LinearSolver() = default;
@@ -56,8 +55,6 @@ Status LinearSolver::setup(solver::CsrMatrix matrix, Preconditioner precondition
     state->workspace = solver::PbcgWorkspace(state->matrix.rows, 3);
     state->result.columns.resize(3);
     state->exact = preconditioner == Preconditioner::cholesky;
-    state->residual.resize(3 * state->matrix.rows);
-    state->correction.resize(3 * state->matrix.rows);
     state_ = std::move(state);
     return Status::ok();
 }
@@ -66,13 +63,11 @@ Status LinearSolver::solve(std::span<const double> rhs, std::span<double> x, dou
                            Accuracy accuracy, std::size_t& iterations) {
     State& s = *state_;
     if (s.exact && accuracy == Accuracy::one_step) {
-        // With the complete factor one correction is the exact solution up to
-        // rounding; the check that would confirm it costs a second solve, so
-        // inside the outer iteration it is left to the final, verified solve.
-        s.matrix.multiply(x, s.residual, 3);
-        for (std::size_t i = 0; i < rhs.size(); ++i) s.residual[i] = rhs[i] - s.residual[i];
-        s.preconditioner->apply(s.residual, s.correction, 3);
-        for (std::size_t i = 0; i < x.size(); ++i) x[i] += s.correction[i];
+        // With the complete factor one application is the exact solution up
+        // to rounding, warm start or not; the check that would confirm it
+        // costs a second solve, so inside the outer iteration it is left to
+        // the final, verified solve.
+        s.preconditioner->apply(rhs, x, 3);
         iterations = 1;
         return Status::ok();
     }
@@ -94,6 +89,14 @@ Status LinearSolver::solve(std::span<const double> rhs, std::span<double> x, dou
                                            std::to_string(iterations) + " iterations");
     }
     return Status::ok();
+}
+
+double LinearSolver::relative_residual() const {
+    double worst = 0.0;
+    for (const solver::PbcgColumnResult& c : state_->result.columns) {
+        worst = std::max(worst, c.relative_residual);
+    }
+    return worst;
 }
 
 }  // namespace dfm::deform

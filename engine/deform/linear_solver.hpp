@@ -39,6 +39,10 @@ public:
     Status solve(std::span<const double> rhs, std::span<double> x, double tolerance,
                  Accuracy accuracy, std::size_t& iterations);
 
+    // The largest ‖b − N x‖ / ‖b‖ over the three columns after the last
+    // solve that ran the Krylov iteration (every verified one does).
+    double relative_residual() const;
+
 private:
     struct State;
     std::unique_ptr<State> state_;

@@ -1,6 +1,9 @@
 #include "deform/mesh_model.hpp"
 
+#include <cmath>
+#include <new>
 #include <numeric>
+#include <string>
 
 namespace dfm::deform {
 
@@ -26,6 +29,31 @@ MeshModel build_mesh_model(mesh::Mesh m) {
         for (std::uint32_t v : mesh.triangles[f]) model.vertex_faces[fill[v]++] = f;
     }
     return model;
+}
+
+Status bake_positions(const MeshModel& model, std::span<const glm::dvec3> positions,
+                      MeshModel& out) {
+    if (positions.size() != model.mesh.vertex_count()) {
+        return Status(Errc::invalid_argument, "expected " + std::to_string(model.mesh.vertex_count()) +
+                                                  " positions, got " +
+                                                  std::to_string(positions.size()));
+    }
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        const glm::dvec3& p = positions[v];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            return Status(Errc::invalid_argument,
+                          "position of vertex " + std::to_string(v) + " is not finite");
+        }
+    }
+    try {
+        mesh::Mesh baked;
+        baked.positions.assign(positions.begin(), positions.end());
+        baked.triangles = model.mesh.triangles;
+        out = build_mesh_model(std::move(baked));
+        return Status::ok();
+    } catch (const std::bad_alloc&) {
+        return Status(Errc::out_of_memory, "out of memory while baking the edit");
+    }
 }
 
 }  // namespace dfm::deform

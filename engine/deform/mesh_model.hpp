@@ -4,6 +4,7 @@
 #include <span>
 #include <vector>
 
+#include "core/status.hpp"
 #include "dual/dual_laplacian.hpp"
 #include "mesh/adjacency.hpp"
 #include "mesh/mesh.hpp"
@@ -30,5 +31,10 @@ struct MeshModel {
 };
 
 MeshModel build_mesh_model(mesh::Mesh mesh);
+
+// Bakes an edit: a new model whose rest pose is `positions` (same triangles),
+// with the dual Laplacian measured anew, so the next edit starts from the
+// deformed shape. Fails on a size mismatch or a non-finite position.
+Status bake_positions(const MeshModel& model, std::span<const glm::dvec3> positions, MeshModel& out);
 
 }  // namespace dfm::deform

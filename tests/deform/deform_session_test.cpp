@@ -1,6 +1,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include <glm/geometric.hpp>
@@ -181,4 +182,33 @@ TEST_CASE("deform: bad set-ups and targets are refused with a reason") {
     targets[0].x = std::nan("");
     CHECK(s->set_targets(targets).code() == Errc::invalid_argument);
     CHECK(s->set_targets(std::span(targets).first(1)).code() == Errc::invalid_argument);
+}
+
+TEST_CASE("deform: baking makes the edit the new rest pose") {
+    const deform::MeshModel model = deform::build_mesh_model(test::make_limb(16, 24, 0.2, 2.0));
+    const std::vector<std::uint32_t> roi = near_y(model.mesh, 0.5, 2.0);
+    const std::vector<std::vector<std::uint32_t>> groups = {near_y(model.mesh, 1.95, 2.0)};
+    std::unique_ptr<deform::DeformSession> s;
+    REQUIRE(deform::DeformSession::create(model, roi, groups, {}, s).is_ok());
+    std::vector<glm::dvec3> targets(s->targets().begin(), s->targets().end());
+    for (glm::dvec3& t : targets) t += glm::dvec3(0.3, 0.0, 0.1);
+    REQUIRE(s->set_targets(targets).is_ok());
+    deform::SolveReport r;
+    REQUIRE(s->solve(r).is_ok());
+
+    deform::MeshModel baked;
+    REQUIRE(deform::bake_positions(model, s->positions(), baked).is_ok());
+    CHECK(baked.mesh.positions == std::vector<glm::dvec3>(s->positions().begin(), s->positions().end()));
+    // A second edit with no motion keeps the baked shape: the detail is now
+    // measured on it.
+    std::unique_ptr<deform::DeformSession> second;
+    REQUIRE(deform::DeformSession::create(baked, roi, groups, {}, second).is_ok());
+    REQUIRE(second->solve(r).is_ok());
+    for (std::size_t v = 0; v < baked.mesh.vertex_count(); ++v) {
+        CHECK(glm::length(second->positions()[v] - baked.mesh.positions[v]) < 1e-9 * baked.diagonal);
+    }
+    std::vector<glm::dvec3> bad(s->positions().begin(), s->positions().end());
+    bad[3].y = std::numeric_limits<double>::infinity();
+    CHECK(deform::bake_positions(model, bad, baked).code() == Errc::invalid_argument);
+    CHECK(deform::bake_positions(model, std::span(bad).first(3), baked).code() == Errc::invalid_argument);
 }

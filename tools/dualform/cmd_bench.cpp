@@ -59,6 +59,7 @@ struct Run {
 };
 
 Status run_once(const deform::MeshModel& model, const EditSetup& edit, Run& run) {
+    run.session.reset();  // one session at a time, so the peak memory is one edit's
     const auto t0 = Clock::now();
     if (Status s = deform::DeformSession::create(model, edit.roi, edit.handle_groups, edit.settings,
                                                  run.session);
@@ -92,6 +93,10 @@ Status bench_scenario(const std::string& path, int repeat, std::optional<deform:
         model, run.session->positions(), edit.in_roi, run.session->handle_vertices(),
         run.session->targets());
 
+    const deform::SetupReport setup_report = run.session->setup_report();
+    const deform::SolveReport solved = run.solve;
+    run.session.reset();
+
     // The drag: a fresh session, targets moved from rest to the scenario's
     // in equal steps, each frame warm-started from the last.
     std::unique_ptr<deform::DeformSession> drag;
@@ -115,7 +120,7 @@ Status bench_scenario(const std::string& path, int repeat, std::optional<deform:
         unconverged += frame.converged ? 0 : 1;
     }
 
-    const deform::SetupReport& sr = run.session->setup_report();
+    const deform::SetupReport& sr = setup_report;
     json.begin_object();
     json.key("scenario").value(path);
     json.key("mesh").value(scenario.mesh);
@@ -129,9 +134,9 @@ Status bench_scenario(const std::string& path, int repeat, std::optional<deform:
     write_spread(json, "setup_ms", setup);
     write_spread(json, "solve_ms", solve);
     write_spread(json, "ms_per_iteration", per_iteration);
-    json.key("iterations").value(std::uint64_t(run.solve.iterations));
-    json.key("converged").value(run.solve.converged);
-    json.key("krylov_iterations").value(std::uint64_t{run.solve.krylov_iterations});
+    json.key("iterations").value(std::uint64_t(solved.iterations));
+    json.key("converged").value(solved.converged);
+    json.key("krylov_iterations").value(std::uint64_t{solved.krylov_iterations});
     json.key("drag").begin_object();
     json.key("frames").value(std::uint64_t{drag_frames});
     json.key("unconverged_frames").value(std::uint64_t(unconverged));

@@ -143,6 +143,7 @@ int run_deform(std::span<const std::string_view> args) {
     json.key("solve_ms").value(solved.solve_ms);
     json.key("ms_per_iteration").value(solved.iterations > 0 ? solved.solve_ms / solved.iterations : 0.0);
     json.key("krylov_iterations").value(std::uint64_t{solved.krylov_iterations});
+    json.key("linear_residual").value(solved.linear_residual);
     json.key("preconditioner").value(deform::preconditioner_name(edit.settings.preconditioner));
     json.key("load_ms").value(std::chrono::duration<double, std::milli>(roi_start - start).count());
     write_quality(json, quality);
