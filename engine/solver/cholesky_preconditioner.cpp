@@ -10,12 +10,14 @@ Status CholeskyPreconditioner::setup(const CsrMatrix& a) {
 }
 
 void CholeskyPreconditioner::reserve(std::size_t k) {
-    if (work_.size() < cholesky_.size() * k) work_.resize(cholesky_.size() * k);
+    const std::size_t size =
+        cholesky_.solve_work_size(k, pool_ != nullptr ? pool_->thread_count() : 1);
+    if (work_.size() < size) work_.resize(size);
 }
 
 void CholeskyPreconditioner::apply(std::span<const double> r, std::span<double> z, std::size_t k) {
     reserve(k);
-    cholesky_.solve(r, z, k, work_);
+    cholesky_.solve(r, z, k, work_, pool_);
 }
 
 }  // namespace dfm::solver

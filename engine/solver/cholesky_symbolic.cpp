@@ -89,6 +89,122 @@ std::vector<std::uint32_t> amalgamate(std::span<const std::uint32_t> fundamental
     return begin;
 }
 
+// The pattern of P A Pᵀ with P postordered (every elimination subtree
+// contiguous), and its elimination tree; sets out.perm and out.inverse.
+PermutedColumns postordered_pattern(const CsrMatrix& a, std::span<const std::uint32_t> perm,
+                                    CholeskySymbolic& out, std::vector<std::uint32_t>& tree) {
+    const std::size_t n = a.rows;
+    PermutedColumns pattern = permuted_columns(a, perm, inverse_permutation(perm));
+    const std::vector<std::uint32_t> first_tree = elimination_tree(pattern);
+    const std::vector<std::uint32_t> post = tree_postorder(first_tree);
+    out.perm.resize(n);
+    for (std::size_t k = 0; k < n; ++k) out.perm[k] = perm[post[k]];
+    out.inverse = inverse_permutation(out.perm);
+    tree = first_tree;
+    if (post == identity_ordering(n)) return pattern;
+    const std::vector<std::uint32_t> post_inverse = inverse_permutation(post);
+    for (std::size_t k = 0; k < n; ++k)
+        tree[k] = first_tree[post[k]] == no_parent ? no_parent : post_inverse[first_tree[post[k]]];
+    return renumbered_columns(pattern, post, post_inverse);
+}
+
+// Row lists, children before parents: a supernode's rows are its columns,
+// A's entries below them and its children's rows below them. Places A's
+// entries and sizes the value blocks in the same pass.
+void lay_out_supernodes(const PermutedColumns& pattern, CholeskySymbolic& out) {
+    const std::size_t s_count = out.supernode_count();
+    std::vector<std::uint32_t> child_head(s_count, no_parent);
+    std::vector<std::uint32_t> child_next(s_count, no_parent);
+    for (std::size_t s = s_count; s-- > 0;) {
+        if (out.parent[s] == no_parent) continue;
+        child_next[s] = child_head[out.parent[s]];
+        child_head[out.parent[s]] = static_cast<std::uint32_t>(s);
+    }
+    std::vector<std::uint32_t> mark(out.n, no_parent);
+    std::vector<std::uint32_t> position(out.n);
+    std::vector<std::uint32_t> list;
+    const std::size_t entries = pattern.rows.size() / 2 + out.n;
+    out.entry_source.reserve(entries);
+    out.entry_target.reserve(entries);
+    for (std::uint32_t s = 0; s < s_count; ++s) {
+        const std::uint32_t first = out.column_begin[s];
+        const std::uint32_t end = out.column_begin[s + 1];
+        list.clear();
+        for (std::uint32_t c = first; c < end; ++c) {
+            list.push_back(c);
+            mark[c] = s;
+        }
+        const auto add = [&](std::uint32_t i) {
+            if (mark[i] == s) return;
+            mark[i] = s;
+            list.push_back(i);
+        };
+        for (std::uint32_t c = first; c < end; ++c)
+            for (const std::uint32_t i : pattern.lower(c))
+                if (i >= end) add(i);
+        for (std::uint32_t ch = child_head[s]; ch != no_parent; ch = child_next[ch]) {
+            const std::size_t width = out.column_begin[ch + 1] - out.column_begin[ch];
+            for (std::size_t p = out.row_begin[ch] + width; p < out.row_begin[ch + 1]; ++p)
+                if (out.rows[p] >= end) add(out.rows[p]);
+        }
+        std::sort(list.begin() + (end - first), list.end());
+        const std::size_t m = list.size();
+        for (std::size_t t = 0; t < m; ++t) position[list[t]] = static_cast<std::uint32_t>(t);
+        // Column c of P A Pᵀ is read from row perm[c] of A, A being symmetric.
+        for (std::uint32_t c = first; c < end; ++c) {
+            const std::size_t column = out.value_begin.back() + (c - first) * m;
+            for (std::size_t e = pattern.begin[c]; e < pattern.lower_end[c]; ++e) {
+                out.entry_source.push_back(pattern.source[e]);
+                out.entry_target.push_back(column + position[pattern.rows[e]]);
+            }
+        }
+        out.entry_begin.push_back(out.entry_source.size());
+        out.rows.insert(out.rows.end(), list.begin(), list.end());
+        out.row_begin.push_back(out.rows.size());
+        out.value_begin.push_back(out.value_begin.back() + m * (end - first));
+        out.max_rows = std::max(out.max_rows, m);
+        double work = 0.0;
+        for (std::size_t c = 0; c < end - first; ++c) {
+            const double below = static_cast<double>(m - c);
+            work += below * below;
+        }
+        out.work.push_back(work);
+        out.flops += work;
+    }
+    out.stored_values = out.value_begin.back();
+}
+
+// Who updates whom: each supernode's rows below its columns, cut into runs
+// by the supernode that owns them, listed per target by ascending source.
+void list_updates(std::span<const std::uint32_t> column_to_super, CholeskySymbolic& out) {
+    const std::size_t s_count = out.supernode_count();
+    const auto for_each_run = [&](auto&& visit) {
+        for (std::uint32_t d = 0; d < s_count; ++d) {
+            const std::size_t base = out.row_begin[d];
+            const std::size_t m = out.row_begin[d + 1] - base;
+            std::size_t p = out.column_begin[d + 1] - out.column_begin[d];
+            while (p < m) {
+                const std::uint32_t s = column_to_super[out.rows[base + p]];
+                std::size_t q = p + 1;
+                while (q < m && out.rows[base + q] < out.column_begin[s + 1]) ++q;
+                visit(d, s, p, q, m);
+                p = q;
+            }
+        }
+    };
+    std::vector<std::size_t> count(s_count + 1, 0);
+    for_each_run([&](std::uint32_t, std::uint32_t s, std::size_t p, std::size_t q, std::size_t m) {
+        ++count[s + 1];
+        out.max_update_size = std::max(out.max_update_size, (m - p) * (q - p));
+    });
+    for (std::size_t s = 0; s < s_count; ++s) count[s + 1] += count[s];
+    out.update_begin = count;
+    out.updates.resize(count[s_count]);
+    for_each_run([&](std::uint32_t d, std::uint32_t s, std::size_t p, std::size_t q, std::size_t) {
+        out.updates[count[s]++] = {d, static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)};
+    });
+}
+
 }  // namespace
 
 bool CholeskySymbolic::matches(const CsrMatrix& a) const {
@@ -109,139 +225,32 @@ Status analyze_cholesky(const CsrMatrix& a, std::span<const std::uint32_t> perm,
     if (!has_symmetric_pattern(a))
         return {Errc::invalid_argument,
                 "Cholesky: the matrix's pattern is not symmetric (store both triangles)"};
-
-    // The elimination tree under the given ordering, then the same ordering
-    // postordered, so that subtrees and supernodes are contiguous.
-    PermutedColumns pattern = permuted_columns(a, perm, inverse_permutation(perm));
-    const std::vector<std::uint32_t> first_tree = elimination_tree(pattern);
-    const std::vector<std::uint32_t> post = tree_postorder(first_tree);
     out.n = n;
-    out.perm.resize(n);
-    for (std::size_t k = 0; k < n; ++k) out.perm[k] = perm[post[k]];
-    out.inverse = inverse_permutation(out.perm);
-    std::vector<std::uint32_t> tree = first_tree;
-    if (post != identity_ordering(n)) {
-        const std::vector<std::uint32_t> post_inverse = inverse_permutation(post);
-        pattern = renumbered_columns(pattern, post, post_inverse);
-        for (std::size_t k = 0; k < n; ++k)
-            tree[k] = first_tree[post[k]] == no_parent ? no_parent
-                                                       : post_inverse[first_tree[post[k]]];
-    }
+    std::vector<std::uint32_t> tree;
+    const PermutedColumns pattern = postordered_pattern(a, perm, out, tree);
     const std::vector<std::uint32_t> counts = factor_column_counts(pattern, tree);
     for (const std::uint32_t c : counts) out.factor_nonzeros += c;
 
     out.column_begin = amalgamate(fundamental_supernodes(tree, counts), tree, counts);
-    const std::size_t s_count = out.column_begin.size() - 1;
+    const std::size_t s_count = out.supernode_count();
     std::vector<std::uint32_t> column_to_super(n);
     for (std::uint32_t s = 0; s < s_count; ++s)
         for (std::uint32_t c = out.column_begin[s]; c < out.column_begin[s + 1]; ++c)
             column_to_super[c] = s;
     out.parent.assign(s_count, no_parent);
-    for (std::size_t s = 0; s < s_count; ++s) {
+    out.subtree_begin.resize(s_count);
+    for (std::uint32_t s = 0; s < s_count; ++s) {
+        out.subtree_begin[s] = s;
         const std::uint32_t up = tree[out.column_begin[s + 1] - 1];
         if (up != no_parent) out.parent[s] = column_to_super[up];
     }
-
-    // Row lists, children before parents: a supernode's rows are its
-    // columns, A's entries below them, and its children's rows below them.
-    // A's entries are placed in the same pass.
-    std::vector<std::uint32_t> child_head(s_count, no_parent);
-    std::vector<std::uint32_t> child_next(s_count, no_parent);
-    for (std::size_t s = s_count; s-- > 0;) {
-        if (out.parent[s] == no_parent) continue;
-        child_next[s] = child_head[out.parent[s]];
-        child_head[out.parent[s]] = static_cast<std::uint32_t>(s);
-    }
-    std::vector<std::uint32_t> mark(n, no_parent);
-    std::vector<std::uint32_t> position(n);
-    std::vector<std::uint32_t> list;
-    out.row_begin.assign(1, 0);
-    out.value_begin.assign(1, 0);
-    out.entry_begin.assign(1, 0);
-    for (std::uint32_t s = 0; s < s_count; ++s) {
-        const std::uint32_t first = out.column_begin[s];
-        const std::uint32_t end = out.column_begin[s + 1];
-        list.clear();
-        for (std::uint32_t c = first; c < end; ++c) {
-            list.push_back(c);
-            mark[c] = s;
-        }
-        const auto add = [&](std::uint32_t i) {
-            if (mark[i] == s) return;
-            mark[i] = s;
-            list.push_back(i);
-        };
-        for (std::uint32_t c = first; c < end; ++c)
-            for (const std::uint32_t i : pattern.column(c))
-                if (i >= end) add(i);
-        for (std::uint32_t ch = child_head[s]; ch != no_parent; ch = child_next[ch]) {
-            const std::size_t width = out.column_begin[ch + 1] - out.column_begin[ch];
-            for (std::size_t p = out.row_begin[ch] + width; p < out.row_begin[ch + 1]; ++p)
-                if (out.rows[p] >= end) add(out.rows[p]);
-        }
-        std::sort(list.begin() + (end - first), list.end());
-        const std::size_t m = list.size();
-        for (std::size_t t = 0; t < m; ++t) position[list[t]] = static_cast<std::uint32_t>(t);
-        // Column c of P A Pᵀ is read from row perm[c] of A, A being symmetric.
-        for (std::uint32_t c = first; c < end; ++c) {
-            for (std::size_t e = pattern.begin[c]; e < pattern.begin[c + 1]; ++e) {
-                const std::uint32_t i = pattern.rows[e];
-                if (i < c) continue;
-                out.entry_source.push_back(pattern.source[e]);
-                out.entry_target.push_back(out.value_begin.back() + (c - first) * m + position[i]);
-            }
-        }
-        out.entry_begin.push_back(out.entry_source.size());
-        out.rows.insert(out.rows.end(), list.begin(), list.end());
-        out.row_begin.push_back(out.rows.size());
-        out.value_begin.push_back(out.value_begin.back() + m * (end - first));
-        out.max_rows = std::max(out.max_rows, m);
-        double work = 0.0;
-        for (std::size_t c = 0; c < end - first; ++c) {
-            const double below = static_cast<double>(m - c);
-            work += below * below;
-        }
-        out.work.push_back(work);
-        out.flops += work;
-    }
-    out.stored_values = out.value_begin.back();
-
-    // Who updates whom: each supernode's rows below its columns, cut into
-    // runs by the supernode that owns them.
-    std::vector<std::size_t> update_count(s_count + 1, 0);
-    const auto for_each_run = [&](auto&& visit) {
-        for (std::uint32_t d = 0; d < s_count; ++d) {
-            const std::size_t base = out.row_begin[d];
-            const std::size_t m = out.row_begin[d + 1] - base;
-            std::size_t p = out.column_begin[d + 1] - out.column_begin[d];
-            while (p < m) {
-                const std::uint32_t s = column_to_super[out.rows[base + p]];
-                std::size_t q = p + 1;
-                while (q < m && out.rows[base + q] < out.column_begin[s + 1]) ++q;
-                visit(d, s, p, q, m);
-                p = q;
-            }
-        }
-    };
-    for_each_run([&](std::uint32_t, std::uint32_t s, std::size_t p, std::size_t q, std::size_t m) {
-        ++update_count[s + 1];
-        out.max_update_size = std::max(out.max_update_size, (m - p) * (q - p));
-    });
-    for (std::size_t s = 0; s < s_count; ++s) update_count[s + 1] += update_count[s];
-    out.update_begin = update_count;
-    out.updates.resize(update_count[s_count]);
-    for_each_run([&](std::uint32_t d, std::uint32_t s, std::size_t p, std::size_t q, std::size_t) {
-        out.updates[update_count[s]++] = {d, static_cast<std::uint32_t>(p),
-                                          static_cast<std::uint32_t>(q)};
-    });
-
-    out.subtree_begin.resize(s_count);
-    for (std::uint32_t s = 0; s < s_count; ++s) out.subtree_begin[s] = s;
     for (std::uint32_t s = 0; s < s_count; ++s)
         if (out.parent[s] != no_parent)
             out.subtree_begin[out.parent[s]] =
                 std::min(out.subtree_begin[out.parent[s]], out.subtree_begin[s]);
 
+    lay_out_supernodes(pattern, out);
+    list_updates(column_to_super, out);
     out.pattern_row_offsets = a.row_offsets;
     out.pattern_col_indices = a.col_indices;
     return Status::ok();

@@ -55,7 +55,8 @@ struct CholeskySymbolic {
     // The last supernode of the subtree rooted at s is s; its first is
     // subtree_begin[s] (postorder makes subtrees contiguous).
     std::vector<std::uint32_t> subtree_begin;
-    // Estimated floating-point work of each supernode, its updates included.
+    // Estimated work of each supernode: Σ over its columns of (rows from the
+    // diagonal down)², the work that column's elimination causes.
     std::vector<double> work;
 
     // A's pattern, to recognise a matrix the analysis fits.
@@ -66,7 +67,7 @@ struct CholeskySymbolic {
     std::size_t stored_values = 0;    // values held, padding and upper diagonal blocks included
     std::size_t max_update_size = 0;  // largest scratch block an update needs
     std::size_t max_rows = 0;         // longest row list of a supernode
-    double flops = 0.0;               // multiply–adds of the numeric phase, estimated
+    double flops = 0.0;  // Σ of work: about the numeric phase's floating-point operations
 
     std::size_t supernode_count() const { return column_begin.size() - 1; }
 

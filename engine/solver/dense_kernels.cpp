@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <cmath>
 
-// The kernels are also compiled for AVX2 and picked at run time where the
+// Every kernel is also compiled for AVX2 and picked at run time where the
 // processor has it: wider vectors, the same multiplications and additions in
-// the same order (no fused multiply–add), so the same bits.
+// the same order (no fused multiply–add), so the same bits. The choice is an
+// ordinary branch rather than an ifunc, which sanitizers' start-up code does
+// not survive.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define DFM_DENSE_KERNEL __attribute__((target_clones("avx2", "default")))
+#define DFM_HAS_AVX2_KERNELS 1
+#define DFM_TARGET_AVX2 __attribute__((target("avx2")))
 #else
-#define DFM_DENSE_KERNEL
+#define DFM_HAS_AVX2_KERNELS 0
 #endif
 
 namespace dfm::solver::dense {
@@ -86,51 +89,26 @@ template <bool subtract, std::size_t R>
     }
 }
 
-using ProductKernel = void (*)(std::size_t, std::size_t, std::size_t, const double*, std::size_t,
-                               const double*, std::size_t, double*, std::size_t, bool,
-                               std::size_t);
-
-template <bool subtract>
-void product_nt_baseline(std::size_t m, std::size_t n, std::size_t k, const double* a,
-                         std::size_t lda, const double* b, std::size_t ldb, double* c,
-                         std::size_t ldc, bool lower, std::size_t row_offset) {
-    product_nt<subtract, 4>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+#if DFM_HAS_AVX2_KERNELS
+bool avx2_available() {
+    static const bool available = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") != 0;
+    }();
+    return available;
 }
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 // Sixteen registers of four doubles: eight accumulators of an 8×4 tile.
 template <bool subtract>
-__attribute__((target("avx2"))) void product_nt_avx2(std::size_t m, std::size_t n, std::size_t k,
-                                                     const double* a, std::size_t lda,
-                                                     const double* b, std::size_t ldb, double* c,
-                                                     std::size_t ldc, bool lower,
-                                                     std::size_t row_offset) {
+DFM_TARGET_AVX2 void product_nt_avx2(std::size_t m, std::size_t n, std::size_t k, const double* a,
+                                     std::size_t lda, const double* b, std::size_t ldb, double* c,
+                                     std::size_t ldc, bool lower, std::size_t row_offset) {
     product_nt<subtract, 8>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
-}
-
-template <bool subtract>
-ProductKernel choose_product_kernel() {
-    return __builtin_cpu_supports("avx2") ? product_nt_avx2<subtract>
-                                          : product_nt_baseline<subtract>;
-}
-#else
-template <bool subtract>
-ProductKernel choose_product_kernel() {
-    return product_nt_baseline<subtract>;
 }
 #endif
 
-}  // namespace
-
-void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, std::size_t lda,
-                 const double* b, std::size_t ldb, double* c, std::size_t ldc, bool subtract,
-                 bool lower, std::size_t row_offset) {
-    static const ProductKernel store = choose_product_kernel<false>();
-    static const ProductKernel minus = choose_product_kernel<true>();
-    (subtract ? minus : store)(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
-}
-
-DFM_DENSE_KERNEL std::size_t factor_diagonal(std::size_t w, double* p, std::size_t ld) {
+[[gnu::always_inline]] inline std::size_t factor_diagonal_body(std::size_t w, double* p,
+                                                               std::size_t ld) {
     for (std::size_t j = 0; j < w; ++j) {
         double* pj = p + j * ld;
         const double pivot = pj[j];
@@ -148,8 +126,10 @@ DFM_DENSE_KERNEL std::size_t factor_diagonal(std::size_t w, double* p, std::size
     return w;
 }
 
-DFM_DENSE_KERNEL void solve_right_lower_transposed(std::size_t m, std::size_t w, const double* l,
-                                                   std::size_t ldl, double* x, std::size_t ldx) {
+[[gnu::always_inline]] inline void solve_right_lower_transposed_body(std::size_t m, std::size_t w,
+                                                                     const double* l,
+                                                                     std::size_t ldl, double* x,
+                                                                     std::size_t ldx) {
     // Eight rows at a time, so that the rows' finished entries stay in
     // registers and L1 while each later column reads them.
     constexpr std::size_t chunk = 8;
@@ -178,6 +158,118 @@ DFM_DENSE_KERNEL void solve_right_lower_transposed(std::size_t m, std::size_t w,
         const double inverse = 1.0 / l[j + j * ldl];
         for (std::size_t i = i0; i < m; ++i) xj[i] *= inverse;
     }
+}
+
+[[gnu::always_inline]] inline void subtract_product_body(std::size_t h, std::size_t w,
+                                                         std::size_t k, const double* l,
+                                                         std::size_t ldl, const double* x,
+                                                         double* y) {
+    for (std::size_t c = 0; c < k; ++c) {
+        double* yc = y + c * h;
+        for (std::size_t j = 0; j < w; ++j) {
+            const double f = x[j * k + c];
+            const double* lj = l + j * ldl;
+            for (std::size_t t = 0; t < h; ++t) yc[t] -= lj[t] * f;
+        }
+    }
+}
+
+[[gnu::always_inline]] inline void subtract_transposed_product_body(std::size_t h, std::size_t w,
+                                                                    std::size_t k,
+                                                                    const double* l,
+                                                                    std::size_t ldl,
+                                                                    const double* y, double* x) {
+    const std::size_t h4 = h - h % 4;
+    for (std::size_t j = 0; j < w; ++j) {
+        const double* lj = l + j * ldl;
+        for (std::size_t c = 0; c < k; ++c) {
+            const double* yc = y + c * h;
+            double sum[4] = {0.0, 0.0, 0.0, 0.0};
+            for (std::size_t t = 0; t < h4; t += 4)
+                for (std::size_t lane = 0; lane < 4; ++lane)
+                    sum[lane] += lj[t + lane] * yc[t + lane];
+            for (std::size_t t = h4; t < h; ++t) sum[t - h4] += lj[t] * yc[t];
+            x[j * k + c] -= (sum[0] + sum[1]) + (sum[2] + sum[3]);
+        }
+    }
+}
+
+#if DFM_HAS_AVX2_KERNELS
+DFM_TARGET_AVX2 std::size_t factor_diagonal_avx2(std::size_t w, double* p, std::size_t ld) {
+    return factor_diagonal_body(w, p, ld);
+}
+
+DFM_TARGET_AVX2 void solve_right_lower_transposed_avx2(std::size_t m, std::size_t w,
+                                                       const double* l, std::size_t ldl,
+                                                       double* x, std::size_t ldx) {
+    solve_right_lower_transposed_body(m, w, l, ldl, x, ldx);
+}
+
+DFM_TARGET_AVX2 void subtract_product_avx2(std::size_t h, std::size_t w, std::size_t k,
+                                           const double* l, std::size_t ldl, const double* x,
+                                           double* y) {
+    subtract_product_body(h, w, k, l, ldl, x, y);
+}
+
+DFM_TARGET_AVX2 void subtract_transposed_product_avx2(std::size_t h, std::size_t w,
+                                                      std::size_t k, const double* l,
+                                                      std::size_t ldl, const double* y,
+                                                      double* x) {
+    subtract_transposed_product_body(h, w, k, l, ldl, y, x);
+}
+#endif
+
+}  // namespace
+
+void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, std::size_t lda,
+                 const double* b, std::size_t ldb, double* c, std::size_t ldc, bool subtract,
+                 bool lower, std::size_t row_offset) {
+#if DFM_HAS_AVX2_KERNELS
+    if (avx2_available()) {
+        if (subtract) {
+            product_nt_avx2<true>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+        } else {
+            product_nt_avx2<false>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+        }
+        return;
+    }
+#endif
+    if (subtract) {
+        product_nt<true, 4>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+    } else {
+        product_nt<false, 4>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+    }
+}
+
+std::size_t factor_diagonal(std::size_t w, double* p, std::size_t ld) {
+#if DFM_HAS_AVX2_KERNELS
+    if (avx2_available()) return factor_diagonal_avx2(w, p, ld);
+#endif
+    return factor_diagonal_body(w, p, ld);
+}
+
+void solve_right_lower_transposed(std::size_t m, std::size_t w, const double* l, std::size_t ldl,
+                                  double* x, std::size_t ldx) {
+#if DFM_HAS_AVX2_KERNELS
+    if (avx2_available()) return solve_right_lower_transposed_avx2(m, w, l, ldl, x, ldx);
+#endif
+    solve_right_lower_transposed_body(m, w, l, ldl, x, ldx);
+}
+
+void subtract_product(std::size_t h, std::size_t w, std::size_t k, const double* l,
+                      std::size_t ldl, const double* x, double* y) {
+#if DFM_HAS_AVX2_KERNELS
+    if (avx2_available()) return subtract_product_avx2(h, w, k, l, ldl, x, y);
+#endif
+    subtract_product_body(h, w, k, l, ldl, x, y);
+}
+
+void subtract_transposed_product(std::size_t h, std::size_t w, std::size_t k, const double* l,
+                                 std::size_t ldl, const double* y, double* x) {
+#if DFM_HAS_AVX2_KERNELS
+    if (avx2_available()) return subtract_transposed_product_avx2(h, w, k, l, ldl, y, x);
+#endif
+    subtract_transposed_product_body(h, w, k, l, ldl, y, x);
 }
 
 std::size_t factor_panel(std::size_t m, std::size_t w, double* p, std::size_t ld) {

@@ -6,16 +6,30 @@ PermutedColumns permuted_columns(const CsrMatrix& a, std::span<const std::uint32
                                  std::span<const std::uint32_t> inverse) {
     PermutedColumns out;
     out.begin.resize(a.rows + 1);
+    out.lower_end.resize(a.rows);
     out.rows.resize(a.nonzeros());
     out.source.resize(a.nonzeros());
-    std::size_t e = 0;
+    std::size_t column_begin = 0;
     for (std::size_t j = 0; j < a.rows; ++j) {
         const std::uint32_t r = perm[j];
-        for (std::size_t p = a.row_offsets[r]; p < a.row_offsets[r + 1]; ++p, ++e) {
-            out.rows[e] = inverse[a.col_indices[p]];
-            out.source[e] = p;
+        const std::size_t column_end = column_begin + (a.row_offsets[r + 1] - a.row_offsets[r]);
+        // Lower entries fill the column from the front, upper ones from the
+        // back; selecting the slot rather than branching keeps the
+        // unpredictable comparison out of the branch predictor's way.
+        std::size_t front = column_begin;
+        std::size_t back = column_end;
+        for (std::size_t p = a.row_offsets[r]; p < a.row_offsets[r + 1]; ++p) {
+            const std::uint32_t i = inverse[a.col_indices[p]];
+            const bool lower = i >= j;
+            const std::size_t slot = lower ? front : back - 1;
+            out.rows[slot] = i;
+            out.source[slot] = p;
+            front += lower ? 1 : 0;
+            back -= lower ? 0 : 1;
         }
-        out.begin[j + 1] = e;
+        out.lower_end[j] = front;
+        out.begin[j + 1] = column_end;
+        column_begin = column_end;
     }
     return out;
 }
@@ -24,11 +38,14 @@ PermutedColumns renumbered_columns(const PermutedColumns& from, std::span<const 
                                    std::span<const std::uint32_t> renumber) {
     PermutedColumns out;
     out.begin.resize(from.size() + 1);
+    out.lower_end.resize(from.size());
     out.rows.resize(from.rows.size());
     out.source.resize(from.source.size());
     std::size_t e = 0;
     for (std::size_t k = 0; k < from.size(); ++k) {
-        for (std::size_t f = from.begin[order[k]]; f < from.begin[order[k] + 1]; ++f, ++e) {
+        const std::size_t j = order[k];
+        out.lower_end[k] = e + (from.lower_end[j] - from.begin[j]);
+        for (std::size_t f = from.begin[j]; f < from.begin[j + 1]; ++f, ++e) {
             out.rows[e] = renumber[from.rows[f]];
             out.source[e] = from.source[f];
         }
@@ -42,7 +59,7 @@ std::vector<std::uint32_t> elimination_tree(const PermutedColumns& pattern) {
     std::vector<std::uint32_t> parent(n, no_parent);
     std::vector<std::uint32_t> ancestor(n, no_parent);
     for (std::uint32_t k = 0; k < n; ++k) {
-        for (std::uint32_t i : pattern.column(k)) {
+        for (std::uint32_t i : pattern.upper(k)) {
             // Climb from i to the root of its current subtree, pointing every
             // node on the way at k.
             while (i < k) {
@@ -107,7 +124,7 @@ std::vector<std::uint32_t> factor_column_counts(const PermutedColumns& pattern,
     for (std::uint32_t i = 0; i < n; ++i) ancestor[i] = i;
     for (std::uint32_t j = 0; j < n; ++j) {
         if (parent[j] != no_parent) --delta[parent[j]];
-        for (const std::uint32_t i : pattern.column(j)) {
+        for (const std::uint32_t i : pattern.lower(j)) {
             // Is j a leaf of the row subtree of i? Only the first descendant
             // of each new subtree counts (skeleton entries).
             if (i <= j || (max_first[i] != none && first[j] <= max_first[i])) continue;

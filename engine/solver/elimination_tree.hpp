@@ -14,18 +14,24 @@ namespace dfm::solver {
 inline constexpr std::uint32_t no_parent = std::numeric_limits<std::uint32_t>::max();
 
 // The pattern of P A Pᵀ by columns, for a symmetric pattern: column j holds
-// the rows of the entries of A's row perm[j], renumbered, the diagonal
-// included, in no particular order; source[e] is entry e's position in A.
-// Built in one pass over A, so that the symbolic analysis then reads memory
-// in order.
+// the rows of the entries of A's row perm[j], renumbered: first those on or
+// below the diagonal (up to lower_end[j]), then those above; source[e] is
+// entry e's position in A. Built in one pass over A, so that the symbolic
+// analysis then reads memory in order.
 struct PermutedColumns {
     std::vector<std::size_t> begin{0};
+    std::vector<std::size_t> lower_end;
     std::vector<std::uint32_t> rows;
     std::vector<std::size_t> source;
 
     std::size_t size() const { return begin.size() - 1; }
-    std::span<const std::uint32_t> column(std::size_t j) const {
-        return std::span(rows).subspan(begin[j], begin[j + 1] - begin[j]);
+    // Rows i ≥ j of column j, the diagonal included.
+    std::span<const std::uint32_t> lower(std::size_t j) const {
+        return std::span(rows).subspan(begin[j], lower_end[j] - begin[j]);
+    }
+    // Rows i < j of column j.
+    std::span<const std::uint32_t> upper(std::size_t j) const {
+        return std::span(rows).subspan(lower_end[j], begin[j + 1] - lower_end[j]);
     }
 };
 
@@ -35,8 +41,10 @@ PermutedColumns permuted_columns(const CsrMatrix& a, std::span<const std::uint32
 
 // The same pattern numbered again: column k of the result is column
 // order[k] of `from`, and row i becomes renumber[i] (renumber being the
-// inverse of order).
-PermutedColumns renumbered_columns(const PermutedColumns& from, std::span<const std::uint32_t> order,
+// inverse of order). `order` must keep every entry on its side of the
+// diagonal, as a postorder of the elimination tree does.
+PermutedColumns renumbered_columns(const PermutedColumns& from,
+                                   std::span<const std::uint32_t> order,
                                    std::span<const std::uint32_t> renumber);
 
 // The elimination tree of the Cholesky factor of the pattern: parent[j] is

@@ -20,7 +20,8 @@ constexpr Index flip(Index j) { return -j - 2; }
 // SIAM J. Matrix Anal. Appl. 17(4), 1996). Variables are the graph's
 // vertices; eliminating a pivot turns it into an element whose variable list
 // stands for the clique it creates. Each variable's list in `memory_` holds
-// first its adjacent elements (elen_ of them), then its adjacent variables.
+// first its adjacent elements (elements_[i] of them), then its adjacent
+// variables. size_[i] is the number of vertices supervariable i stands for.
 // Index n is an extra element that collects dense rows, ordered last.
 class MinimumDegree {
 public:
@@ -35,7 +36,7 @@ public:
           head_(static_cast<std::size_t>(n_) + 1, none),
           elements_(static_cast<std::size_t>(n_) + 1, 0),
           degree_(static_cast<std::size_t>(n_) + 1, 0),
-          w_(static_cast<std::size_t>(n_) + 1, 1),
+          stamp_(static_cast<std::size_t>(n_) + 1, 1),
           hash_head_(static_cast<std::size_t>(n_) + 1, none) {
         const std::size_t edges = graph.neighbors.size();
         // Elbow room so that new elements rarely force a compaction.
@@ -47,7 +48,9 @@ public:
         }
         for (std::size_t p = 0; p < edges; ++p) memory_[p] = graph.neighbors[p];
         used_ = static_cast<Index>(edges);
-        dense_ = std::min(n_ - 2, std::max<Index>(16, static_cast<Index>(10.0 * std::sqrt(static_cast<double>(n_)))));
+        dense_ = std::min(
+            n_ - 2,
+            std::max<Index>(16, static_cast<Index>(10.0 * std::sqrt(static_cast<double>(n_)))));
         if (!constraints_.empty()) {
             // The variables of each constraint set, in CSR form.
             std::uint32_t sets = 0;
@@ -68,14 +71,14 @@ public:
         mark_ = clear_marks(0, 0);
         elements_[at(n_)] = -2;
         pointer_[at(n_)] = none;
-        w_[at(n_)] = 0;
+        stamp_[at(n_)] = 0;
         for (Index i = 0; i < n_; ++i) {
             const Index d = degree_[at(i)];
             if (d == 0) {
                 elements_[at(i)] = -2;  // an empty variable is an element at once
                 ++eliminated_;
                 pointer_[at(i)] = none;
-                w_[at(i)] = 0;
+                stamp_[at(i)] = 0;
             } else if (d > dense_) {
                 size_[at(i)] = 0;  // dense: absorbed into element n
                 elements_[at(i)] = -1;
@@ -135,12 +138,13 @@ private:
         }
     }
 
-    // Marks in w_ are "stamps above mark_"; renumbers them when mark_ would
-    // overflow, and returns the mark to use next.
+    // stamp_[e] ≥ mark_ means element e was seen in the current step (its
+    // value then encodes |Le \ Lk|); 0 marks a dead element. Renumbers the
+    // stamps when mark_ would overflow, and returns the mark to use next.
     Index clear_marks(Index mark, Index largest) {
         if (mark < 2 || mark + largest < 0) {
             for (Index k = 0; k < n_; ++k)
-                if (w_[at(k)] != 0) w_[at(k)] = 1;
+                if (stamp_[at(k)] != 0) stamp_[at(k)] = 1;
             mark = 2;
         }
         return mark;
@@ -215,7 +219,7 @@ private:
             }
             if (e != k) {
                 pointer_[at(e)] = flip(k);
-                w_[at(e)] = 0;
+                stamp_[at(e)] = 0;
             }
         }
         if (k_elements != 0) used_ = lk_end;
@@ -225,7 +229,7 @@ private:
         elements_[at(k)] = -2;
 
         // |Le \ Lk| for every element e adjacent to a variable of Lk, as
-        // w_[e] − mark_.
+        // stamp_[e] − mark_.
         mark_ = clear_marks(mark_, largest_element_);
         for (Index pk = lk_begin; pk < lk_end; ++pk) {
             const Index i = memory_[at(pk)];
@@ -235,10 +239,10 @@ private:
             const Index first_visit = mark_ - size_i;
             for (Index q = pointer_[at(i)]; q < pointer_[at(i)] + i_elements; ++q) {
                 const Index e = memory_[at(q)];
-                if (w_[at(e)] >= mark_) {
-                    w_[at(e)] -= size_i;
-                } else if (w_[at(e)] != 0) {
-                    w_[at(e)] = degree_[at(e)] + first_visit;
+                if (stamp_[at(e)] >= mark_) {
+                    stamp_[at(e)] -= size_i;
+                } else if (stamp_[at(e)] != 0) {
+                    stamp_[at(e)] = degree_[at(e)] + first_visit;
                 }
             }
         }
@@ -255,15 +259,15 @@ private:
             std::uint64_t hash = 0;
             for (Index q = p1; q <= p2; ++q) {
                 const Index e = memory_[at(q)];
-                if (w_[at(e)] == 0) continue;
-                const Index outside = w_[at(e)] - mark_;
+                if (stamp_[at(e)] == 0) continue;
+                const Index outside = stamp_[at(e)] - mark_;
                 if (outside > 0) {
                     d += outside;
                     memory_[at(pn++)] = e;
                     hash += static_cast<std::uint64_t>(e);
                 } else {
                     pointer_[at(e)] = flip(k);
-                    w_[at(e)] = 0;
+                    stamp_[at(e)] = 0;
                 }
             }
             elements_[at(i)] = pn - p1 + 1;
@@ -324,7 +328,7 @@ private:
         length_[at(k)] = write - lk_begin;
         if (length_[at(k)] == 0) {
             pointer_[at(k)] = none;
-            w_[at(k)] = 0;
+            stamp_[at(k)] = 0;
         }
         if (k_elements != 0) used_ = write;
     }
@@ -342,12 +346,12 @@ private:
                 const Index len = length_[at(i)];
                 const Index elen = elements_[at(i)];
                 for (Index q = pointer_[at(i)] + 1; q <= pointer_[at(i)] + len - 1; ++q)
-                    w_[at(memory_[at(q)])] = mark_;
+                    stamp_[at(memory_[at(q)])] = mark_;
                 Index j_last = i;
                 for (Index j = next_[at(i)]; j != none;) {
                     bool same = length_[at(j)] == len && elements_[at(j)] == elen && same_set(i, j);
                     for (Index q = pointer_[at(j)] + 1; same && q <= pointer_[at(j)] + len - 1; ++q)
-                        same = w_[at(memory_[at(q)])] == mark_;
+                        same = stamp_[at(memory_[at(q)])] == mark_;
                     if (same) {
                         pointer_[at(j)] = flip(i);
                         size_[at(i)] += size_[at(j)];
@@ -413,7 +417,7 @@ private:
     std::vector<Index> head_;
     std::vector<Index> elements_;
     std::vector<Index> degree_;
-    std::vector<Index> w_;
+    std::vector<Index> stamp_;
     std::vector<Index> hash_head_;
     std::vector<Index> memory_;
     Index used_ = 0;

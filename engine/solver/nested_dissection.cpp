@@ -41,8 +41,9 @@ public:
         }
         std::vector<std::uint32_t> rank(block_begin_.size());
         for (std::uint32_t b = 0; b < rank.size(); ++b) rank[b] = b;
-        std::sort(rank.begin(), rank.end(),
-                  [&](std::uint32_t x, std::uint32_t y) { return block_begin_[x] < block_begin_[y]; });
+        std::sort(rank.begin(), rank.end(), [&](std::uint32_t x, std::uint32_t y) {
+            return block_begin_[x] < block_begin_[y];
+        });
         std::vector<std::uint32_t> position(rank.size());
         for (std::uint32_t r = 0; r < rank.size(); ++r) position[rank[r]] = r;
         for (std::uint32_t& s : set_of_) s = position[s];

@@ -13,27 +13,35 @@ namespace dfm::solver {
 // Orderings are permutations given as perm[new] = old: the new unknown i is
 // the old unknown perm[i]. All are deterministic.
 
+// Measured on vertex 2-ring patterns of real meshes (tools/solver_bench,
+// the armadillo and its subdivisions): minimum degree orders about ten
+// times faster and gives the least fill at 26k unknowns; nested dissection
+// gives 7% less fill at 104k and 17% less at 416k, which shortens the
+// numeric factorization by 13% and 25%, far less than its ordering adds.
 enum class OrderingMethod {
     identity,           // keeps the given order (tests, tiny systems)
-    nested_dissection,  // graph bisection with vertex separators, recursively
-    minimum_degree,     // approximate minimum degree
+    nested_dissection,  // multilevel vertex separators, recursively
+    minimum_degree,     // approximate minimum degree (the default)
 };
 
 const char* ordering_method_name(OrderingMethod method);
 
 struct NestedDissectionOptions {
-    // Subgraphs of at most this many vertices are ordered by minimum degree
-    // instead of being bisected further.
-    std::size_t leaf_size = 96;
+    // Parts of at most this many vertices are not split further; minimum
+    // degree orders them.
+    std::size_t leaf_size = 256;
 };
 
 // 0, 1, ..., n − 1.
 std::vector<std::uint32_t> identity_ordering(std::size_t n);
 
-// Nested dissection: each connected subgraph is split by a vertex separator
-// taken from a breadth-first level structure rooted at a pseudo-peripheral
-// vertex and then thinned; both halves are ordered first (recursively) and
-// the separator last. Leaves are ordered by exact minimum degree.
+// Nested dissection: each connected part is split by a small vertex
+// separator (multilevel: heavy-edge coarsening, region growing on the
+// coarsest graph, Fiduccia–Mattheyses refinement on the way back), both
+// sides first and the separator last, recursively down to leaves. The
+// dissection then constrains a minimum degree ordering of the whole graph
+// (every leaf and separator a constraint set, as CHOLMOD does with CAMD), so
+// that leaves and separators are ordered knowing their surroundings.
 std::vector<std::uint32_t> nested_dissection_ordering(const SymmetricGraph& graph,
                                                       const NestedDissectionOptions& options = {});
 

@@ -20,6 +20,13 @@ struct PbcgOptions {
     // estimate can be far below the true error.)
     double tolerance = 1e-10;
     std::size_t max_iterations = 1000;
+    // Stop a column, unconverged, once this many iterations in a row bring
+    // no new smallest error estimate (a limit above max_iterations never
+    // does). 0 chooses: 3 when M is exact (Preconditioner::is_exact), whose
+    // estimate stalls only when the tolerance lies below what rounding
+    // allows for the system; never otherwise, since weak preconditioners'
+    // estimates can stall for hundreds of iterations and still converge.
+    std::size_t stagnation_limit = 0;
     // A and M symmetric (A positive definite): the shadow sequence equals the
     // primal one, so solve by preconditioned conjugate gradients with half
     // the work. Off: the general bi-conjugate gradient, with Aᵀ and M⁻ᵀ.
@@ -32,9 +39,11 @@ struct PbcgOptions {
 struct PbcgColumnResult {
     std::size_t iterations = 0;
     bool converged = false;
-    bool breakdown = false;         // ρ or p̃ᵀAp vanished (or stopped being finite) first
-    double error_estimate = 0.0;    // the last max |M⁻¹ r|
-    double relative_residual = 0.0; // ‖b − A x‖₂ / ‖b‖₂ recomputed at the end; ‖A x‖₂ when b = 0
+    bool breakdown = false;       // ρ or p̃ᵀAp vanished (or stopped being finite) first
+    bool stagnated = false;       // stopped by options.stagnation_limit
+    double error_estimate = 0.0;  // the last max |M⁻¹ r|, r = b − A x recomputed
+    // ‖b − A x‖₂ / ‖b‖₂ recomputed from the final x (‖A x‖₂ when b = 0).
+    double relative_residual = 0.0;
 };
 
 struct PbcgResult {
@@ -66,7 +75,8 @@ private:
     std::vector<double> r_, z_, p_, q_;
     std::vector<double> shadow_r_, shadow_z_, shadow_p_, shadow_q_;
     std::vector<double> partial_;
-    std::vector<double> rho_, rho_old_, pq_, error_, b_norm_;
+    std::vector<double> rho_, rho_old_, pq_, error_, b_norm_, best_;
+    std::vector<std::size_t> stalled_;
     std::vector<unsigned char> active_;
 };
 
@@ -77,10 +87,11 @@ private:
 // updating once converged or broken down. Stops when every column has
 // stopped or at options.max_iterations. M must be set up for A (and
 // symmetric when options.symmetric is set). Fails only on bad arguments
-// (sizes, a workspace too small or without shadow vectors for the general
-// algorithm, a tolerance that is negative or NaN); a solve that does not
-// converge is reported in `result`. Allocates nothing once `result` has held
-// k columns.
+// (sizes, M not set up for a matrix of A's order, a workspace too small or
+// without shadow vectors for the general algorithm, a tolerance that is
+// negative or NaN); a solve that does not converge is reported in `result`.
+// Allocates nothing once `result` has held k columns and M has been reserved
+// for k. Not thread-safe for a shared workspace, preconditioner or result.
 Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double> b,
                   std::span<double> x, std::size_t k, const PbcgOptions& options,
                   PbcgWorkspace& work, PbcgResult& result);

@@ -40,6 +40,13 @@ public:
     }
 
     virtual const char* name() const = 0;
+
+    // The order of M: that of the matrix last set up successfully, 0 before.
+    virtual std::size_t size() const = 0;
+
+    // True when M equals A up to rounding (a complete factorization): its
+    // error estimate then stops improving only at the rounding floor.
+    virtual bool is_exact() const { return false; }
 };
 
 // M = diag(A). The baseline: cheap, and weak on bi-Laplacian-like systems.
@@ -49,15 +56,16 @@ public:
     Status setup(const CsrMatrix& a) override;
     void apply(std::span<const double> r, std::span<double> z, std::size_t k) override;
     const char* name() const override { return "jacobi"; }
+    std::size_t size() const override { return inverse_diagonal_.size(); }
 
 private:
     std::vector<double> inverse_diagonal_;
 };
 
 // M = L Lᵀ with L restricted to the pattern of A's lower triangle, IC(0), in
-// A's own order. A must be symmetric with a positive diagonal. When a pivot
-// breaks down, A + α diag(A) is factored instead for growing α (Manteuffel's
-// shift).
+// A's own order (its lower triangle is read). A must be symmetric with a
+// positive diagonal. When a pivot breaks down, A + α diag(A) is factored
+// instead for α = 10⁻³, 4·10⁻³, … (Manteuffel's shift).
 class IncompleteCholeskyPreconditioner final : public Preconditioner {
 public:
     // Fails when A is not square, a row has no positive diagonal entry, or
@@ -65,6 +73,7 @@ public:
     Status setup(const CsrMatrix& a) override;
     void apply(std::span<const double> r, std::span<double> z, std::size_t k) override;
     const char* name() const override { return "incomplete cholesky"; }
+    std::size_t size() const override { return factor_.rows; }
 
     // The α of the last successful setup (0 when none was needed).
     double shift() const { return shift_; }
@@ -81,8 +90,8 @@ private:
 class CholeskyPreconditioner final : public Preconditioner {
 public:
     // `pool` (optional, not owned, must outlive this object) spreads the
-    // factorization over its threads; the factor is the same bits whatever
-    // the thread count.
+    // factorization and the solves over its threads; the results are the
+    // same bits whatever the thread count.
     explicit CholeskyPreconditioner(OrderingMethod ordering = OrderingMethod::minimum_degree,
                                     ThreadPool* pool = nullptr);
 
@@ -92,6 +101,8 @@ public:
     void reserve(std::size_t k) override;
     void apply(std::span<const double> r, std::span<double> z, std::size_t k) override;
     const char* name() const override { return "cholesky"; }
+    std::size_t size() const override { return cholesky_.is_factored() ? cholesky_.size() : 0; }
+    bool is_exact() const override { return true; }
 
     const SparseCholesky& factor() const { return cholesky_; }
 

@@ -121,7 +121,10 @@ struct Score {
 class Refiner {
 public:
     Refiner(const WeightedGraph& graph, std::vector<std::uint8_t>& where, std::int64_t max_side)
-        : g_(graph), where_(where), max_side_(max_side), heaps_{GainHeap(graph.size()), GainHeap(graph.size())},
+        : g_(graph),
+          where_(where),
+          max_side_(max_side),
+          heaps_{GainHeap(graph.size()), GainHeap(graph.size())},
           moved_(graph.size(), 0) {
         for (std::size_t v = 0; v < g_.size(); ++v) weight_[where_[v]] += g_.vertex_weights[v];
     }

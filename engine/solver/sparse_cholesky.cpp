@@ -5,6 +5,7 @@
 #include <string>
 
 #include "solver/dense_kernels.hpp"
+#include "solver/cholesky_schedule.hpp"
 #include "solver/elimination_tree.hpp"
 
 namespace dfm::solver {
@@ -151,62 +152,6 @@ std::uint32_t factor_supernode_split(const CholeskySymbolic& sym, std::span<cons
     return no_failure;
 }
 
-// Whole subtrees for each thread, balanced by estimated work, and the
-// supernodes above them, done afterwards in order. Subtrees are split from
-// the top while one of them holds more than its share of the work.
-struct Schedule {
-    std::vector<std::vector<std::uint32_t>> subtrees;  // roots, per thread
-    std::vector<std::uint32_t> top;                    // ascending
-};
-
-Schedule make_schedule(const CholeskySymbolic& sym, std::size_t threads) {
-    const std::size_t s_count = sym.supernode_count();
-    std::vector<double> subtree_work(sym.work.begin(), sym.work.end());
-    std::vector<std::vector<std::uint32_t>> children(s_count);
-    std::vector<std::uint32_t> roots;
-    double total = 0.0;
-    for (std::uint32_t s = 0; s < s_count; ++s) {
-        total += sym.work[s];
-        if (sym.parent[s] == no_parent) {
-            roots.push_back(s);
-        } else {
-            subtree_work[sym.parent[s]] += subtree_work[s];
-            children[sym.parent[s]].push_back(s);
-        }
-    }
-    Schedule schedule;
-    schedule.subtrees.resize(threads);
-    const double share = total / static_cast<double>(2 * threads);
-    const auto heavier = [&](std::uint32_t x, std::uint32_t y) {
-        return subtree_work[x] != subtree_work[y] ? subtree_work[x] < subtree_work[y] : x > y;
-    };
-    std::vector<std::uint32_t> heap = roots;
-    std::make_heap(heap.begin(), heap.end(), heavier);
-    while (!heap.empty() && subtree_work[heap.front()] > share &&
-           !children[heap.front()].empty()) {
-        std::pop_heap(heap.begin(), heap.end(), heavier);
-        const std::uint32_t s = heap.back();
-        heap.pop_back();
-        schedule.top.push_back(s);
-        for (const std::uint32_t c : children[s]) {
-            heap.push_back(c);
-            std::push_heap(heap.begin(), heap.end(), heavier);
-        }
-    }
-    std::sort(schedule.top.begin(), schedule.top.end());
-    // Longest first, each to the least loaded thread.
-    std::sort(heap.begin(), heap.end(), [&](std::uint32_t x, std::uint32_t y) { return heavier(y, x); });
-    std::vector<double> load(threads, 0.0);
-    for (const std::uint32_t root : heap) {
-        const std::size_t t =
-            static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
-        load[t] += subtree_work[root];
-        schedule.subtrees[t].push_back(root);
-    }
-    for (auto& list : schedule.subtrees) std::sort(list.begin(), list.end());
-    return schedule;
-}
-
 }  // namespace
 
 CholeskyScratch::CholeskyScratch(const CholeskySymbolic& sym)
@@ -215,6 +160,7 @@ CholeskyScratch::CholeskyScratch(const CholeskySymbolic& sym)
 Status SparseCholesky::analyze(const CsrMatrix& a, OrderingMethod method) {
     factored_ = false;
     values_.clear();
+    schedule_ = CholeskySchedule{};
     if (a.rows != a.cols) return analyze_cholesky(a, std::span<const std::uint32_t>{}, symbolic_);
     return analyze_cholesky(a, fill_reducing_ordering(a, method), symbolic_);
 }
@@ -222,6 +168,7 @@ Status SparseCholesky::analyze(const CsrMatrix& a, OrderingMethod method) {
 Status SparseCholesky::analyze(const CsrMatrix& a, std::span<const std::uint32_t> perm) {
     factored_ = false;
     values_.clear();
+    schedule_ = CholeskySchedule{};
     return analyze_cholesky(a, perm, symbolic_);
 }
 
@@ -261,7 +208,8 @@ Status SparseCholesky::factorize(const CsrMatrix& a, ThreadPool* pool) {
         for (std::uint32_t s = 0; s < s_count && failed == no_failure; ++s)
             record(s, factor_supernode(sym, a.values, values_, s, scratch_[0]));
     } else {
-        const Schedule schedule = make_schedule(sym, threads);
+        if (schedule_.subtrees.size() != threads) schedule_ = make_cholesky_schedule(sym, threads);
+        const CholeskySchedule& schedule = schedule_;
         std::vector<std::uint32_t> first_failure(threads, no_failure);
         std::vector<std::uint32_t> failure_column(threads, no_failure);
         pool->run(threads, [&](std::size_t t) {

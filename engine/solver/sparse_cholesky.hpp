@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/status.hpp"
+#include "solver/cholesky_schedule.hpp"
 #include "solver/cholesky_symbolic.hpp"
 #include "solver/csr_matrix.hpp"
 #include "solver/ordering.hpp"
@@ -31,7 +32,7 @@ struct CholeskyScratch {
 class SparseCholesky {
 public:
     // Orders A's pattern with `method` and analyses it. Forgets any factor.
-    Status analyze(const CsrMatrix& a, OrderingMethod method = OrderingMethod::nested_dissection);
+    Status analyze(const CsrMatrix& a, OrderingMethod method = OrderingMethod::minimum_degree);
 
     // Analyses A's pattern for the given ordering (perm[new] = old).
     Status analyze(const CsrMatrix& a, std::span<const std::uint32_t> perm);
@@ -46,7 +47,7 @@ public:
 
     // Analyses `a` unless its pattern is the one last analysed, then
     // factorizes it.
-    Status compute(const CsrMatrix& a, OrderingMethod method = OrderingMethod::nested_dissection,
+    Status compute(const CsrMatrix& a, OrderingMethod method = OrderingMethod::minimum_degree,
                    ThreadPool* pool = nullptr);
 
     bool is_factored() const { return factored_; }
@@ -54,14 +55,23 @@ public:
     const CholeskySymbolic& symbolic() const { return symbolic_; }
 
     // x = A⁻¹ b for k interleaved vectors (b[j * k + c] is entry j of vector
-    // c), both in A's numbering, with one pass over the factor for all k.
-    // `work` holds at least size() * k doubles. b and x may be the same
-    // span. Requires is_factored(). Thread-safe: const and allocation-free.
+    // c), both in A's numbering, with one pass over the factor for all k;
+    // each vector's result is the same bits whatever k and whatever the
+    // thread count. `work` holds solve_work_size(k, threads) doubles. With
+    // `pool`, the one the factor was computed with, independent subtrees are
+    // solved on its threads (with another pool, or work sized for fewer
+    // threads, the solve runs on the calling thread alone). b and x may be
+    // the same span. Requires is_factored(). Allocation-free; concurrent
+    // solves are safe when they use different work and pools.
     void solve(std::span<const double> b, std::span<double> x, std::size_t k,
-               std::span<double> work) const;
+               std::span<double> work, ThreadPool* pool = nullptr) const;
+
+    // The doubles of work a solve of k vectors on `threads` threads needs.
+    std::size_t solve_work_size(std::size_t k, std::size_t threads = 1) const;
 
 private:
     CholeskySymbolic symbolic_;
+    CholeskySchedule schedule_;  // for the thread count of the last factorize
     std::vector<double> values_;
     std::vector<CholeskyScratch> scratch_;
     bool factored_ = false;

@@ -41,12 +41,13 @@ SymmetricGraph symmetric_graph(const CsrMatrix& a) {
         }
         return g;
     }
-    // Both directions of every stored entry, then one copy of each.
+    // Both directions of every stored entry, then one copy of each. Columns
+    // beyond the last row (a matrix that is not square) are left out.
     std::vector<std::size_t> start(n + 1, 0);
     for (std::size_t i = 0; i < n; ++i) {
         for (std::size_t p = a.row_offsets[i]; p < a.row_offsets[i + 1]; ++p) {
             const std::uint32_t j = a.col_indices[p];
-            if (j == i) continue;
+            if (j == i || j >= n) continue;
             ++start[i + 1];
             ++start[j + 1];
         }
@@ -57,7 +58,7 @@ SymmetricGraph symmetric_graph(const CsrMatrix& a) {
     for (std::size_t i = 0; i < n; ++i) {
         for (std::size_t p = a.row_offsets[i]; p < a.row_offsets[i + 1]; ++p) {
             const std::uint32_t j = a.col_indices[p];
-            if (j == i) continue;
+            if (j == i || j >= n) continue;
             both[fill[i]++] = j;
             both[fill[j]++] = static_cast<std::uint32_t>(i);
         }

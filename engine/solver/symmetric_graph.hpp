@@ -23,7 +23,8 @@ struct SymmetricGraph {
     }
 };
 
-// The graph of the pattern of A + Aᵀ, without self-loops. A must be square.
+// The graph of the pattern of A + Aᵀ, without self-loops, over A's rows
+// (entries in columns beyond the last row are ignored).
 SymmetricGraph symmetric_graph(const CsrMatrix& a);
 
 // True when A is square and A(j, i) is stored wherever A(i, j) is.

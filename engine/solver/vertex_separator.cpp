@@ -49,8 +49,8 @@ WeightedGraph coarsen(const WeightedGraph& g, std::vector<std::uint32_t>& coarse
     std::vector<std::uint32_t> visit(n);
     for (std::uint32_t v = 0; v < n; ++v) visit[v] = v;
     for (std::size_t i = n; i > 1; --i) std::swap(visit[i - 1], visit[random.below(i)]);
-    const std::int64_t max_weight =
-        std::max<std::int64_t>(1, (3 * total_weight(g)) / static_cast<std::int64_t>(2 * coarsest_size));
+    const std::int64_t max_weight = std::max<std::int64_t>(
+        1, (3 * total_weight(g)) / static_cast<std::int64_t>(2 * coarsest_size));
     std::vector<std::uint32_t> match(n, unmatched);
     for (const std::uint32_t v : visit) {
         if (match[v] != unmatched) continue;
@@ -181,7 +181,8 @@ void find_vertex_separator(const WeightedGraph& graph, std::vector<std::uint8_t>
     while (current->size() > coarsest_size) {
         std::vector<std::uint32_t> map;
         WeightedGraph coarse = coarsen(*current, map, random);
-        if (static_cast<double>(coarse.size()) > least_shrink * static_cast<double>(current->size()))
+        if (static_cast<double>(coarse.size()) >
+            least_shrink * static_cast<double>(current->size()))
             break;
         levels.push_back(std::move(coarse));
         coarse_of.push_back(std::move(map));
@@ -192,7 +193,8 @@ void find_vertex_separator(const WeightedGraph& graph, std::vector<std::uint8_t>
     for (std::size_t level = levels.size(); level-- > 0;) {
         const WeightedGraph& fine = level == 0 ? graph : levels[level - 1];
         std::vector<std::uint8_t> fine_where(fine.size());
-        for (std::size_t v = 0; v < fine.size(); ++v) fine_where[v] = coarse_where[coarse_of[level][v]];
+        for (std::size_t v = 0; v < fine.size(); ++v)
+            fine_where[v] = coarse_where[coarse_of[level][v]];
         refine_vertex_separator(fine, fine_where, side_limit(fine));
         coarse_where = std::move(fine_where);
     }

@@ -33,8 +33,8 @@ CsrMatrix disconnected_matrix() {
         const CsrMatrix block = dfm::test::random_spd(size, 6, size);
         for (std::size_t i = 0; i < block.rows; ++i)
             for (std::size_t p = block.row_offsets[i]; p < block.row_offsets[i + 1]; ++p)
-                triplets.push_back({base + static_cast<std::uint32_t>(i), base + block.col_indices[p],
-                                    block.values[p]});
+                triplets.push_back({base + static_cast<std::uint32_t>(i),
+                                    base + block.col_indices[p], block.values[p]});
         base += static_cast<std::uint32_t>(size);
     }
     return csr_from_triplets(base, base, triplets);
@@ -52,6 +52,8 @@ TEST_CASE("solver: every ordering is a permutation") {
         disconnected_matrix(),
         dfm::test::normal_product(
             dfm::test::mesh_laplacian(dfm::test::make_limb(12, 30, 0.5, 4.0), 0.01), 0.0),
+        dfm::test::star_matrix(400),
+        dfm::test::complete_matrix(30),
     };
     for (const CsrMatrix& a : matrices) {
         for (const OrderingMethod method : all_methods) {

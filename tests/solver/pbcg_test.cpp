@@ -226,6 +226,31 @@ TEST_CASE("solver: the iteration cap stops an unconverged solve") {
           doctest::Approx(dfm::test::relative_residual(a, out.x, b, 1)).epsilon(1e-6));
 }
 
+TEST_CASE("solver: a tolerance below the rounding floor stagnates instead of looping") {
+    const CsrMatrix a = grid_system(25);
+    const std::vector<double> b = dfm::test::random_vector(a.rows * 3, 14);
+    auto m = prepared(PreconditionerKind::cholesky, a);
+    PbcgOptions options;
+    options.tolerance = 0.0;
+    options.max_iterations = 40;
+    // The default for an exact preconditioner stops it.
+    const Outcome stopped = run(a, *m, b, std::vector<double>(b.size(), 0.0), 3, options);
+    CHECK_FALSE(stopped.result.converged);
+    CHECK(stopped.result.iterations < 15);
+    for (const PbcgColumnResult& column : stopped.result.columns) {
+        CHECK(column.stagnated);
+        CHECK_FALSE(column.breakdown);
+        CHECK(column.relative_residual < 1e-12);
+    }
+    options.stagnation_limit = options.max_iterations + 1;
+    const Outcome capped = run(a, *m, b, std::vector<double>(b.size(), 0.0), 3, options);
+    CHECK(capped.result.iterations == 40);
+    CHECK_FALSE(capped.result.columns[0].stagnated);
+    CHECK_FALSE(make_preconditioner(PreconditionerKind::jacobi)->is_exact());
+    CHECK_FALSE(make_preconditioner(PreconditionerKind::incomplete_cholesky)->is_exact());
+    CHECK(m->is_exact());
+}
+
 TEST_CASE("solver: k = 3 gives the same bits as three k = 1 solves") {
     const CsrMatrix a = grid_system(15);
     const std::size_t n = a.rows;
@@ -272,7 +297,8 @@ TEST_CASE("solver: PBCG is bit-identical with 1 and 2 threads") {
         for (const Outcome& o : outcomes) {
             CHECK(o.x == outcomes[0].x);
             CHECK(o.result.iterations == outcomes[0].result.iterations);
-            CHECK(o.result.columns[2].error_estimate == outcomes[0].result.columns[2].error_estimate);
+            CHECK(o.result.columns[2].error_estimate ==
+                  outcomes[0].result.columns[2].error_estimate);
         }
     }
 }
@@ -300,5 +326,8 @@ TEST_CASE("solver: PBCG rejects bad arguments") {
     options.tolerance = std::numeric_limits<double>::quiet_NaN();
     CHECK(pbcg_solve(a, m, b, x, 3, options, work, result).code() == dfm::Errc::invalid_argument);
     options.tolerance = 1e-10;
+    JacobiPreconditioner unset;
+    CHECK(pbcg_solve(a, unset, b, x, 3, options, work, result).code() ==
+          dfm::Errc::invalid_argument);
     CHECK(pbcg_solve(a, m, b, x, 2, options, work, result).is_ok());
 }

@@ -18,10 +18,10 @@ constexpr OrderingMethod all_methods[] = {OrderingMethod::identity,
                                           OrderingMethod::minimum_degree};
 
 std::vector<double> cholesky_solve(const SparseCholesky& chol, const std::vector<double>& b,
-                                   std::size_t k) {
+                                   std::size_t k, ThreadPool* pool = nullptr) {
     std::vector<double> x(b.size());
-    std::vector<double> work(b.size());
-    chol.solve(b, x, k, work);
+    std::vector<double> work(chol.solve_work_size(k, pool != nullptr ? pool->thread_count() : 1));
+    chol.solve(b, x, k, work, pool);
     return x;
 }
 
@@ -47,6 +47,19 @@ TEST_CASE("solver: sparse Cholesky matches a dense solve on random SPD systems")
             const std::vector<double> x = cholesky_solve(chol, b, 3);
             CHECK(dfm::test::relative_residual(a, x, b, 3) < 1e-12);
             CHECK(dfm::test::relative_difference(x, dfm::test::dense_solve(a, b, 3)) < 1e-12);
+        }
+    }
+}
+
+TEST_CASE("solver: sparse Cholesky handles a dense row and a dense matrix") {
+    for (const CsrMatrix& a : {dfm::test::star_matrix(300), dfm::test::complete_matrix(40)}) {
+        for (const OrderingMethod method : all_methods) {
+            CAPTURE(a.rows);
+            CAPTURE(ordering_method_name(method));
+            const std::vector<double> b = dfm::test::random_vector(a.rows * 3, 2);
+            SparseCholesky chol;
+            REQUIRE(chol.compute(a, method).is_ok());
+            CHECK(dfm::test::relative_residual(a, cholesky_solve(chol, b, 3), b, 3) < 1e-12);
         }
     }
 }
@@ -156,7 +169,7 @@ TEST_CASE("solver: Cholesky solve with k = 3 equals three k = 1 solves bit for b
     // And with more vectors than the specialised widths, in place.
     const std::vector<double> b7 = dfm::test::random_vector(n * 7, 13);
     std::vector<double> in_place = b7;
-    std::vector<double> work(n * 7);
+    std::vector<double> work(chol.solve_work_size(7));
     chol.solve(in_place, in_place, 7, work);
     CHECK(dfm::test::relative_residual(a, in_place, b7, 7) < 1e-12);
 }
@@ -173,7 +186,8 @@ TEST_CASE("solver: Cholesky factor and solve are bit-identical with 1, 2 and 3 t
             ThreadPool pool(threads);
             SparseCholesky chol;
             REQUIRE(chol.compute(a, method, &pool).is_ok());
-            solutions.push_back(cholesky_solve(chol, b, 3));
+            solutions.push_back(cholesky_solve(chol, b, 3, &pool));
+            CHECK(cholesky_solve(chol, b, 3) == solutions.back());
             CHECK(dfm::test::relative_residual(a, solutions.back(), b, 3) < 1e-10);
             const dfm::Status failed = chol.factorize(with_diagonal(a, 1234, -5.0), &pool);
             CHECK(failed.code() == dfm::Errc::numerical);

@@ -67,9 +67,35 @@ CsrMatrix random_nonsymmetric(std::size_t n, std::size_t per_row, std::uint64_t 
     return random_dominant(n, per_row, seed, false);
 }
 
+CsrMatrix star_matrix(std::size_t n) {
+    std::vector<Triplet> triplets;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        triplets.push_back({i, i, static_cast<double>(n)});
+        if (i > 0) {
+            triplets.push_back({0, i, -1.0});
+            triplets.push_back({i, 0, -1.0});
+        }
+        if (i > 1) {
+            triplets.push_back({i - 1, i, -0.5});
+            triplets.push_back({i, i - 1, -0.5});
+        }
+    }
+    return csr_from_triplets(n, n, triplets);
+}
+
+CsrMatrix complete_matrix(std::size_t n) {
+    std::vector<Triplet> triplets;
+    for (std::uint32_t i = 0; i < n; ++i)
+        for (std::uint32_t j = 0; j < n; ++j)
+            triplets.push_back({i, j, i == j ? static_cast<double>(n) : -0.5});
+    return csr_from_triplets(n, n, triplets);
+}
+
 CsrMatrix grid_laplacian(std::size_t nx, std::size_t ny) {
     std::vector<Triplet> triplets;
-    const auto at = [&](std::size_t x, std::size_t y) { return static_cast<std::uint32_t>(y * nx + x); };
+    const auto at = [&](std::size_t x, std::size_t y) {
+        return static_cast<std::uint32_t>(y * nx + x);
+    };
     for (std::size_t y = 0; y < ny; ++y) {
         for (std::size_t x = 0; x < nx; ++x) {
             triplets.push_back({at(x, y), at(x, y), 4.0});

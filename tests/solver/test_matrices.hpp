@@ -29,6 +29,13 @@ solver::CsrMatrix random_spd(std::size_t n, std::size_t per_row, std::uint64_t s
 // A random non-symmetric n×n matrix (pattern included), diagonally dominant.
 solver::CsrMatrix random_nonsymmetric(std::size_t n, std::size_t per_row, std::uint64_t seed);
 
+// A hub joined to every other vertex plus a path through the others;
+// diagonally dominant.
+solver::CsrMatrix star_matrix(std::size_t n);
+
+// Every vertex joined to every other; diagonally dominant.
+solver::CsrMatrix complete_matrix(std::size_t n);
+
 // The 5-point Laplacian of an nx×ny grid with Dirichlet boundary (SPD).
 solver::CsrMatrix grid_laplacian(std::size_t nx, std::size_t ny);
 

@@ -3,10 +3,12 @@
 //
 // usage: solver_bench [--models cow,armadillo] [--subdivide S] [--threads T]
 //                     [--repeat R] [--tolerance F] [--max-iterations M]
-//                     [--krylov-max-vertices V]
+//                     [--krylov-max-vertices V] [--stagnation N]
 //   --subdivide S   also each model split into 4^s times the triangles, s ≤ S
 //   --tolerance F   PCG stops at max |M⁻¹ r| ≤ F × the bounding-box diagonal
 //   --krylov-max-vertices V   Jacobi and IC(0) runs only up to V vertices
+//   --stagnation N  PbcgOptions::stagnation_limit (default 0: 3 for the
+//                   Cholesky preconditioner, never for the others)
 
 #include <cstdio>
 #include <cstdlib>
@@ -33,6 +35,7 @@ struct Settings {
     double tolerance = 1e-10;
     std::size_t max_iterations = 1000;
     std::size_t krylov_max_vertices = 150000;
+    std::size_t stagnation = 0;
 };
 
 std::vector<std::string> split(std::string_view list) {
@@ -62,6 +65,8 @@ bool parse(int argc, char** argv, Settings& s) {
             s.tolerance = std::atof(value);
         } else if (arg == "--max-iterations") {
             s.max_iterations = static_cast<std::size_t>(std::atol(value));
+        } else if (arg == "--stagnation") {
+            s.stagnation = static_cast<std::size_t>(std::atol(value));
         } else if (arg == "--krylov-max-vertices") {
             s.krylov_max_vertices = static_cast<std::size_t>(std::atol(value));
         } else {
@@ -79,7 +84,9 @@ void write_factor(Json& json, const FactorMeasure& f) {
         .field("symbolic_ms", f.symbolic_ms)
         .field("numeric_ms", f.numeric_ms)
         .field("setup_ms", f.setup_ms)
+        .field("setup_min_ms", f.setup_min_ms)
         .field("solve_k3_ms", f.solve_k3_ms)
+        .field("solve_k3_min_ms", f.solve_k3_min_ms)
         .field("factor_nonzeros", f.factor_nonzeros)
         .field("stored_values", f.stored_values)
         .field("supernodes", f.supernodes)
@@ -94,8 +101,10 @@ void write_solve(Json& json, const SolveMeasure& s) {
         .field("start", s.warm ? "warm" : "cold")
         .field("setup_ms", s.setup_ms)
         .field("solve_ms", s.solve_ms)
+        .field("solve_min_ms", s.solve_min_ms)
         .field("iterations", s.iterations)
         .field("converged", s.converged)
+        .field("stagnated", s.stagnated)
         .field("error_estimate_over_diagonal", s.error_estimate)
         .field("true_error_over_diagonal", s.true_error)
         .field("relative_residual", s.relative_residual)
@@ -110,7 +119,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr,
                      "usage: solver_bench [--models cow,armadillo] [--subdivide S] [--threads T] "
                      "[--repeat R] [--tolerance F] [--max-iterations M] "
-                     "[--krylov-max-vertices V]\n");
+                     "[--krylov-max-vertices V] [--stagnation N]\n");
         return 2;
     }
     solver::ThreadPool pool(settings.threads);
@@ -147,20 +156,28 @@ int main(int argc, char** argv) {
                 .key("factor")
                 .begin_array();
             for (const solver::OrderingMethod ordering :
-                 {solver::OrderingMethod::minimum_degree, solver::OrderingMethod::nested_dissection})
+                 {solver::OrderingMethod::minimum_degree,
+                  solver::OrderingMethod::nested_dissection})
                 write_factor(json, measure_factor(system, ordering, pool, repeat));
             json.end_array().key("pcg").begin_array();
             const Frame frame = make_frame(system, mesh, pool);
             const double tolerance = settings.tolerance * system.diagonal;
             for (const solver::PreconditionerKind kind :
-                 {solver::PreconditionerKind::cholesky, solver::PreconditionerKind::incomplete_cholesky,
+                 {solver::PreconditionerKind::cholesky,
+                  solver::PreconditionerKind::incomplete_cholesky,
                   solver::PreconditionerKind::jacobi}) {
-                if (kind != solver::PreconditionerKind::cholesky && n > settings.krylov_max_vertices)
+                if (kind != solver::PreconditionerKind::cholesky &&
+                    n > settings.krylov_max_vertices)
                     continue;
+                solver::PbcgOptions options;
+                options.tolerance = tolerance;
+                options.max_iterations = settings.max_iterations;
+                options.stagnation_limit = settings.stagnation;
+                options.pool = &pool;
+                // The iterative runs are long: timed once.
+                const int runs = kind == solver::PreconditionerKind::cholesky ? repeat : 1;
                 for (const bool warm : {true, false})
-                    write_solve(json, measure_pcg(system, frame, kind, warm, tolerance,
-                                                  settings.max_iterations, pool,
-                                                  kind == solver::PreconditionerKind::cholesky ? repeat : 1));
+                    write_solve(json, measure_pcg(system, frame, kind, warm, options, runs));
             }
             json.end_array().end_object();
         }

@@ -5,13 +5,16 @@
 #include <vector>
 
 #include "solver/ordering.hpp"
+#include "solver/pbcg.hpp"
 #include "solver/preconditioner.hpp"
 #include "solver/thread_pool.hpp"
 #include "test_system.hpp"
 
 namespace dfm::solver_bench {
 
-// Times are the median over the repetitions, in milliseconds.
+// Times are in milliseconds: the median over the repetitions, and for the
+// totals also the fastest (on a shared machine the median carries the noise
+// of other work).
 struct FactorMeasure {
     solver::OrderingMethod ordering{};
     double graph_ms = 0.0;
@@ -19,7 +22,9 @@ struct FactorMeasure {
     double symbolic_ms = 0.0;
     double numeric_ms = 0.0;
     double setup_ms = 0.0;     // the four above, summed per run
+    double setup_min_ms = 0.0;
     double solve_k3_ms = 0.0;  // one forward and back solve for x, y and z
+    double solve_k3_min_ms = 0.0;
     std::size_t factor_nonzeros = 0;
     std::size_t stored_values = 0;
     std::size_t supernodes = 0;
@@ -46,15 +51,17 @@ struct SolveMeasure {
     bool warm = false;
     double setup_ms = 0.0;
     double solve_ms = 0.0;
+    double solve_min_ms = 0.0;
     std::size_t iterations = 0;
     bool converged = false;
+    bool stagnated = false;
     double error_estimate = 0.0;     // max over x, y, z of max |M⁻¹ r|, over the diagonal
     double relative_residual = 0.0;  // max over x, y, z
     double true_error = 0.0;         // max |x − reference| over the diagonal
 };
 
 SolveMeasure measure_pcg(const TestSystem& system, const Frame& frame,
-                         solver::PreconditionerKind kind, bool warm, double tolerance,
-                         std::size_t max_iterations, solver::ThreadPool& pool, int repeat);
+                         solver::PreconditionerKind kind, bool warm,
+                         const solver::PbcgOptions& options, int repeat);
 
 }  // namespace dfm::solver_bench
