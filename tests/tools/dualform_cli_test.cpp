@@ -1,12 +1,14 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
+#include "pick/pick.hpp"
 #include "support/model_variants.hpp"
 #include "support/run_process.hpp"
 #include "support/test_files.hpp"
@@ -164,12 +166,14 @@ TEST_CASE("dualform deform: writes the mesh, the ROI and a report with every fie
     CHECK(std::adjacent_find(indices.begin(), indices.end()) == indices.end());
 }
 
-TEST_CASE("dualform deform: Water-Filling is a clear error until picking lands; bad input exits 2") {
+TEST_CASE("dualform deform: a Water-Filling ROI deforms; bad input exits 2") {
     const auto dir = dfm::test::scratch_dir("cli_deform_errors");
     const std::string out = (dir / "x.off").string();
-    auto r = dualform({"deform", (scenarios_dir() / "cow-front-leg-step.json").string(), "--out", out});
-    CHECK(r.exit_code == 2);
-    CHECK(r.err.find("Water-Filling is not available") != std::string::npos);
+    auto r = dualform({"deform", (scenarios_dir() / "cow-front-leg-step.json").string(), "--out",
+                       (dir / "leg.off").string()});
+    CAPTURE(r.err);
+    CHECK(r.exit_code == 0);
+    CHECK(field(r.out, "n_roi") == "138");
 
     dfm::test::write_text(dir / "outside.json",
                           R"({"mesh": "model:cow", "roi": {"ball": {"center": 901, "radius": 0.1}},
@@ -217,4 +221,182 @@ TEST_CASE("dualform bench: set-up, solve and a 60-frame drag, as JSON") {
     CHECK(field(json, "frames") == "60");
     CHECK(field(json, "unconverged_frames") == "0");
     CHECK(dualform({"bench", "--repeat", "0", "x.json"}).exit_code == 2);
+}
+
+namespace {
+
+const char* cow_camera =
+    R"({"eye": [0.2, 0.1, 2.0], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_degrees": 40,
+        "width": 640, "height": 480})";
+
+std::vector<long> read_roi(const std::filesystem::path& path) {
+    std::istringstream lines(dfm::test::read_text(path));
+    std::vector<long> indices;
+    for (std::string line; std::getline(lines, line);) indices.push_back(std::stol(line));
+    return indices;
+}
+
+}  // namespace
+
+TEST_CASE("dualform pick: a hit prints face, vertex, point, distance and barycentrics") {
+    auto r = dualform({"pick", "model:cow", "--camera", cow_camera, "--pixel", "320,240"});
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.out.starts_with("{\"hit\":true,\"face\":"));
+    CHECK(r.out.find('\n') == r.out.size() - 1);
+    for (const char* key : {"face", "vertex", "point", "distance", "barycentric"}) {
+        CAPTURE(key);
+        CHECK(field(r.out, key) != "<missing>");
+    }
+    // The same camera from a file gives the same answer.
+    const auto dir = dfm::test::scratch_dir("cli_pick");
+    dfm::test::write_text(dir / "camera.json", cow_camera);
+    const auto f = dualform({"pick", "model:cow", "--camera", (dir / "camera.json").string(),
+                             "--pixel", "320,240"});
+    CHECK(f.exit_code == 0);
+    CHECK(f.out == r.out);
+
+    r = dualform({"pick", "model:cow", "--camera", cow_camera, "--pixel", "0,0"});
+    CHECK(r.exit_code == 0);
+    CHECK(r.out == "{\"hit\":false}\n");
+}
+
+TEST_CASE("dualform pick: bad input exits 2 and names it") {
+    auto r = dualform({"pick", "model:cow", "--camera", cow_camera, "--pixel", "320"});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("--pixel") != std::string::npos);
+    r = dualform({"pick", "model:cow", "--camera", cow_camera, "--pixel", "700,10"});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("outside") != std::string::npos);
+    r = dualform({"pick", "model:cow", "--camera", R"({"eye": [0, 0, 1]})", "--pixel", "1,1"});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("target: required field is missing") != std::string::npos);
+    r = dualform({"pick", "model:cow", "--camera", "/nonexistent/camera.json", "--pixel", "1,1"});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("cannot open") != std::string::npos);
+    r = dualform({"pick", "model:cow", "--pixel", "1,1"});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("usage") != std::string::npos);
+}
+
+TEST_CASE("dualform roi: writes the Water-Filling ROI and its diagnosis") {
+    const auto dir = dfm::test::scratch_dir("cli_roi");
+    auto r = dualform({"roi", (scenarios_dir() / "cow-front-leg-step.json").string(), "--out",
+                       (dir / "leg.txt").string()});
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.out == "{\"n_roi\":138,\"loops\":1,\"bounded_by_last_loop\":true,\"suspect\":false}\n");
+    const std::vector<long> leg = read_roi(dir / "leg.txt");
+    CHECK(leg.size() == 138);
+    CHECK(std::is_sorted(leg.begin(), leg.end()));
+    CHECK(std::adjacent_find(leg.begin(), leg.end()) == leg.end());
+
+    dfm::test::write_text(dir / "tail.json",
+                          R"({"mesh": "model:cow", "roi": {"water_fill": {"first": 2334, "last": 1959}},
+                              "handles": [{"vertices": [2334]}]})");
+    r = dualform({"roi", (dir / "tail.json").string(), "--out", (dir / "tail.txt").string()});
+    CHECK(r.exit_code == 0);
+    CHECK(field(r.out, "loops") == "2");
+    CHECK(field(r.out, "suspect") == "true");
+
+    r = dualform({"roi", (scenarios_dir() / "scale-cow-leg.json").string(), "--out",
+                  (dir / "ball.txt").string()});
+    CHECK(r.exit_code == 0);
+    CHECK(field(r.out, "loops") == "<missing>");
+    CHECK(field(r.out, "n_roi") == std::to_string(read_roi(dir / "ball.txt").size()));
+
+    dfm::test::write_text(dir / "far.json",
+                          R"({"mesh": "model:cow", "roi": {"water_fill": {"first": 771, "last": 9999}},
+                              "handles": [{"vertices": [771]}]})");
+    r = dualform({"roi", (dir / "far.json").string(), "--out", (dir / "far.txt").string()});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("last vertex 9999 is out of range") != std::string::npos);
+    CHECK(dualform({"roi", (dir / "far.json").string()}).exit_code == 2);
+}
+
+// The clicks are the pixels where a camera sees vertices 771 and 681;
+// picking them must give the same ROI as water_fill with 771 and 681.
+TEST_CASE("dualform roi: water_fill_clicks replays the water_fill ROI") {
+    dfm::mesh::Mesh cow;
+    std::filesystem::path path;
+    REQUIRE(dfm::mesh::resolve_mesh_spec("model:cow", {}, path).is_ok());
+    REQUIRE(dfm::mesh::load_mesh(path, cow).is_ok());
+    // A camera in front of the leg and below the hoof (771 is on the hoof's
+    // sole), from where both vertices are seen: picking their projections
+    // gives them back.
+    dfm::pick::EmbreeScene scene;
+    REQUIRE(dfm::pick::EmbreeScene::create(cow.positions, cow.triangles, scene).is_ok());
+    dfm::pick::Camera camera;
+    camera.target = 0.5 * (cow.positions[771] + cow.positions[681]);
+    camera.eye = camera.target + glm::dvec3(0.5, -0.3, 0.0);
+    camera.fov_y_degrees = 40.0;
+    camera.width = 640;
+    camera.height = 480;
+    for (const std::uint32_t v : {771u, 681u}) {
+        const auto at = dfm::pick::project(camera, cow.positions[v]);
+        REQUIRE(at.has_value());
+        std::optional<dfm::pick::Hit> hit;
+        REQUIRE(dfm::pick::pick_pixel(scene, camera, *at, hit).is_ok());
+        REQUIRE(hit.has_value());
+        CHECK(hit->vertex == v);
+    }
+    const auto first = dfm::pick::project(camera, cow.positions[771]);
+    const auto last = dfm::pick::project(camera, cow.positions[681]);
+    const auto number = [](double v) {
+        std::ostringstream s;
+        s.precision(17);
+        s << v;
+        return s.str();
+    };
+    const auto vec = [&](glm::dvec3 v) {
+        std::string out = "[";
+        out += number(v.x);
+        out += ", ";
+        out += number(v.y);
+        out += ", ";
+        out += number(v.z);
+        out += ']';
+        return out;
+    };
+    const auto pixel = [&](glm::dvec2 p) {
+        std::string out = "[";
+        out += number(p.x);
+        out += ", ";
+        out += number(p.y);
+        out += ']';
+        return out;
+    };
+    std::string camera_json = "{\"eye\": ";
+    camera_json += vec(camera.eye);
+    camera_json += ", \"target\": ";
+    camera_json += vec(camera.target);
+    camera_json += ", \"up\": [0, 1, 0], \"fov_y_degrees\": 40, \"width\": 640, \"height\": 480}";
+    std::string scenario = R"({"mesh": "model:cow", "handles": [{"vertices": [771]}], "roi": {"water_fill_clicks": {"camera": )";
+    scenario += camera_json;
+    scenario += ", \"first\": ";
+    scenario += pixel(*first);
+    scenario += ", \"last\": ";
+    scenario += pixel(*last);
+    scenario += "}}}";
+
+    const auto dir = dfm::test::scratch_dir("cli_roi_clicks");
+    dfm::test::write_text(dir / "clicks.json", scenario);
+    auto r = dualform({"roi", (dir / "clicks.json").string(), "--out", (dir / "clicks.txt").string()});
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const auto p = dualform({"roi", (scenarios_dir() / "cow-front-leg-step.json").string(), "--out",
+                             (dir / "ids.txt").string()});
+    REQUIRE(p.exit_code == 0);
+    CHECK(r.out == p.out);
+    CHECK(read_roi(dir / "clicks.txt") == read_roi(dir / "ids.txt"));
+
+    // A camera looking away from the cow: the first click hits nothing.
+    dfm::test::write_text(dir / "miss.json",
+                          R"({"mesh": "model:cow", "handles": [{"vertices": [771]}],
+                              "roi": {"water_fill_clicks": {"camera": {"eye": [0, 0, 3],
+                              "target": [0, 0, 4], "up": [0, 1, 0], "fov_y_degrees": 40,
+                              "width": 64, "height": 48}, "first": [32, 24], "last": [1, 1]}}})");
+    r = dualform({"roi", (dir / "miss.json").string(), "--out", (dir / "miss.txt").string()});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("roi.water_fill_clicks.first: the click at [32, 24] hits nothing") != std::string::npos);
 }

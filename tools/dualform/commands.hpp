@@ -17,6 +17,8 @@ int run_info(std::span<const std::string_view> args);
 int run_convert(std::span<const std::string_view> args);
 int run_deform(std::span<const std::string_view> args);
 int run_bench(std::span<const std::string_view> args);
+int run_pick(std::span<const std::string_view> args);
+int run_roi(std::span<const std::string_view> args);
 
 // Reads a preconditioner's name as preconditioner_name() writes it.
 bool parse_preconditioner(std::string_view name, deform::Preconditioner& out);

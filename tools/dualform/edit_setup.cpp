@@ -8,9 +8,12 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/number_text.hpp"
+#include "dualform/pick_camera.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "mesh/subdivide.hpp"
+#include "pick/pick.hpp"
 #include "roi/ball_selection.hpp"
 
 namespace dfm::cli {
@@ -31,13 +34,72 @@ Status select(const BallSelection& ball, const deform::MeshModel& model, const s
                             ball.radius * model.diagonal, out);
 }
 
+Status water_fill(std::uint32_t first, std::uint32_t last, const deform::MeshModel& model,
+                  const std::string& what, std::vector<std::uint32_t>& roi,
+                  std::optional<roi::WaterFillDiagnosis>& diagnosis) {
+    const roi::SurfaceView surface{model.mesh.positions, model.mesh.triangles,
+                                   &model.vertex_neighbors, model.vertex_face_offsets,
+                                   model.vertex_faces};
+    roi::WaterFill fill;
+    if (Status s = roi::water_fill(surface, first, last, fill); !s) {
+        return Status(s.code(), what + ": " + s.message());
+    }
+    roi = std::move(fill.vertices);
+    diagnosis = fill.diagnosis;
+    return Status::ok();
+}
+
+// The vertex a click picks: the nearest vertex of the face it hits.
+Status click_vertex(const pick::EmbreeScene& scene, const ScenarioCamera& camera, glm::dvec2 pixel,
+                    const std::string& what, std::uint32_t& out) {
+    std::optional<pick::Hit> hit;
+    if (Status s = pick::pick_pixel(scene, to_pick_camera(camera), pixel, hit); !s) {
+        return Status(s.code(), what + ": " + s.message());
+    }
+    if (!hit) {
+        std::string message = what;
+        message += ": the click at [";
+        append_number(message, pixel.x);
+        message += ", ";
+        append_number(message, pixel.y);
+        message += "] hits nothing";
+        return Status(Errc::invalid_argument, std::move(message));
+    }
+    out = hit->vertex;
+    return Status::ok();
+}
+
+Status water_fill_clicks(const RoiSpec& spec, const deform::MeshModel& model,
+                         std::vector<std::uint32_t>& roi,
+                         std::optional<roi::WaterFillDiagnosis>& diagnosis) {
+    const std::string what = "roi.water_fill_clicks";
+    pick::EmbreeScene scene;
+    if (Status s = pick::EmbreeScene::create(model.mesh.positions, model.mesh.triangles, scene);
+        !s) {
+        return Status(s.code(), what + ": " + s.message());
+    }
+    std::uint32_t first = 0;
+    std::uint32_t last = 0;
+    if (Status s = click_vertex(scene, spec.camera, spec.first_pixel, what + ".first", first); !s) {
+        return s;
+    }
+    if (Status s = click_vertex(scene, spec.camera, spec.last_pixel, what + ".last", last); !s) {
+        return s;
+    }
+    return water_fill(first, last, model, what, roi, diagnosis);
+}
+
+}  // namespace
+
 Status resolve_roi(const RoiSpec& spec, const deform::MeshModel& model,
-                   std::vector<std::uint32_t>& roi) {
+                   std::vector<std::uint32_t>& roi,
+                   std::optional<roi::WaterFillDiagnosis>& diagnosis) {
+    diagnosis.reset();
     switch (spec.kind) {
         case RoiSpec::Kind::water_fill:
+            return water_fill(spec.first, spec.last, model, "roi", roi, diagnosis);
         case RoiSpec::Kind::water_fill_clicks:
-            return Status(Errc::unsupported,
-                          "roi: Water-Filling is not available yet; use ball, vertices or all");
+            return water_fill_clicks(spec, model, roi, diagnosis);
         case RoiSpec::Kind::ball: return select(spec.ball, model, "roi", roi);
         case RoiSpec::Kind::vertices:
             for (std::uint32_t v : spec.vertices) {
@@ -54,6 +116,8 @@ Status resolve_roi(const RoiSpec& spec, const deform::MeshModel& model,
     }
     return Status(Errc::invalid_argument, "roi: unknown kind");
 }
+
+namespace {
 
 // Rotation about the pivot first, then translation: the order a user
 // dragging a rotated handle expects.
@@ -89,7 +153,8 @@ Status group_targets(const HandleSpec& spec, const std::vector<std::uint32_t>& g
 
 Status resolve_edit(const Scenario& scenario, const deform::MeshModel& model, EditSetup& out) {
     out = EditSetup{};
-    if (Status s = resolve_roi(scenario.roi, model, out.roi); !s) return s;
+    std::optional<roi::WaterFillDiagnosis> diagnosis;
+    if (Status s = resolve_roi(scenario.roi, model, out.roi, diagnosis); !s) return s;
     out.in_roi.assign(model.mesh.vertex_count(), 0);
     for (std::uint32_t v : out.roi) out.in_roi[v] = 1;
     for (std::size_t g = 0; g < scenario.handles.size(); ++g) {

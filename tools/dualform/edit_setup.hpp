@@ -1,12 +1,14 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/status.hpp"
 #include "deform/deform_session.hpp"
 #include "deform/mesh_model.hpp"
 #include "dualform/scenario.hpp"
+#include "roi/water_fill.hpp"
 
 namespace dfm::cli {
 
@@ -19,6 +21,14 @@ struct EditSetup {
     std::vector<glm::dvec3> targets;  // one per handle vertex, in group order
     deform::DeformSettings settings;
 };
+
+// The ROI the spec selects on the model, ascending. For the Water-Filling
+// kinds `diagnosis` receives the fill's diagnosis; otherwise it is reset.
+// water_fill_clicks picks both pixels through the camera and fills from the
+// picked faces' nearest vertices; a click that hits nothing is an error.
+Status resolve_roi(const RoiSpec& spec, const deform::MeshModel& model,
+                   std::vector<std::uint32_t>& roi,
+                   std::optional<roi::WaterFillDiagnosis>& diagnosis);
 
 Status resolve_edit(const Scenario& scenario, const deform::MeshModel& model, EditSetup& out);
 

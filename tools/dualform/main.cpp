@@ -25,6 +25,12 @@ constexpr const char* help_text =
     "                         replay an edit scenario; prints its report as JSON\n"
     "  bench SCENARIO... [--repeat N] [--json FILE]\n"
     "                         time set-up, solve and a 60-frame drag; JSON out\n"
+    "  pick MESH --camera JSON --pixel X,Y [--bench N]\n"
+    "                         pick the surface through a camera pixel; prints the hit as JSON\n"
+    "                         (JSON: a camera object inline, or a file holding one;\n"
+    "                         --bench N times N picks instead)\n"
+    "  roi SCENARIO --out TXT write the scenario's ROI, one vertex a line; prints its size\n"
+    "                         and, for Water-Filling, the cut-loop diagnosis as JSON\n"
     "  help                   print this text\n"
     "\n"
     "exit codes: 0 success, 2 bad input (error: ... on stderr), 1 the work failed\n"
@@ -48,6 +54,8 @@ int main(int argc, char** argv) {
         if (command == "convert") return run_convert(args);
         if (command == "deform") return run_deform(args);
         if (command == "bench") return run_bench(args);
+        if (command == "pick") return run_pick(args);
+        if (command == "roi") return run_roi(args);
         if (command == "help" || command == "--help" || command == "-h") {
             std::fputs(help_text, stdout);
             return exit_ok;

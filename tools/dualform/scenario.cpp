@@ -147,6 +147,11 @@ public:
         return solver(solver_field, out.solver);
     }
 
+    // A camera as a document of its own (`dualform pick --camera`).
+    Status camera_document(const JsonValue& root, ScenarioCamera& out) const {
+        return camera(Field{&root, root.at, ""}, out);
+    }
+
 private:
     Status error(const Field& f, std::string_view what) const { return error(f.at, f.path, what); }
     Status error(JsonPosition at, std::string_view path, std::string_view what) const {
@@ -537,6 +542,20 @@ Status parse_scenario(std::string_view text, std::string_view source, Scenario& 
         Scenario scenario;
         if (Status s = ScenarioReader(source).scenario(root, scenario); !s) return s;
         out = std::move(scenario);
+        return Status::ok();
+    } catch (const std::bad_alloc&) {
+        return out_of_memory(source);
+    }
+}
+
+Status parse_camera(std::string_view text, std::string_view source, ScenarioCamera& out) {
+    out = ScenarioCamera{};
+    try {
+        JsonValue root;
+        if (Status s = parse_json(text, source, root); !s) return s;
+        ScenarioCamera camera;
+        if (Status s = ScenarioReader(source).camera_document(root, camera); !s) return s;
+        out = camera;
         return Status::ok();
     } catch (const std::bad_alloc&) {
         return out_of_memory(source);

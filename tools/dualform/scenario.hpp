@@ -87,6 +87,10 @@ inline constexpr int max_subdivisions = 3;
 // "cow.json:7:12: handles[1].rotate.degrees: expected a number").
 Status parse_scenario(std::string_view text, std::string_view source, Scenario& out);
 
+// Parses a CAMERA object on its own, checked as inside a scenario; errors
+// are located the same way.
+Status parse_camera(std::string_view text, std::string_view source, ScenarioCamera& out);
+
 // Reads and parses a scenario file; base_dir is set to its folder.
 Status load_scenario(const std::filesystem::path& path, Scenario& out);
 

@@ -1,0 +1,17 @@
+#pragma once
+
+#include <string_view>
+
+#include "core/status.hpp"
+#include "dualform/scenario.hpp"
+#include "pick/camera.hpp"
+
+namespace dfm::cli {
+
+pick::Camera to_pick_camera(const ScenarioCamera& camera);
+
+// A --camera argument: CAMERA JSON written inline when its first non-blank
+// character is '{', otherwise the path of a file holding it.
+Status read_camera_argument(std::string_view argument, ScenarioCamera& out);
+
+}  // namespace dfm::cli
