@@ -280,17 +280,22 @@ Status DeformSession::solve(SolveReport& report) {
         store_solution();
     }
     // The last linear solve, confirmed to its tolerance: what the host gets
-    // is the solution of the last system, not one unchecked step of it.
+    // is the solution of the last system, not one unchecked step of it. On a
+    // nearly singular system the confirmation can fail; then the unchecked
+    // step, finite and already stored, stands.
+    std::copy(x_.begin(), x_.end(), next_.begin());
     std::size_t krylov = 0;
-    if (Status s = linear_.solve(rhs_, x_, settings_.linear_tolerance * diag,
-                                 LinearSolver::Accuracy::verified, krylov);
-        !s) {
-        report.solve_ms = elapsed_ms(start);
-        return s;
-    }
+    const Status verified = linear_.solve(rhs_, x_, settings_.linear_tolerance * diag,
+                                          LinearSolver::Accuracy::verified, krylov);
     report.krylov_iterations += krylov;
-    report.linear_residual = linear_.relative_residual();
-    store_solution();
+    report.linear_converged = verified.is_ok() && linear_.converged();
+    if (report.linear_converged) {
+        report.linear_residual = linear_.relative_residual();
+        store_solution();
+    } else {
+        report.linear_residual = std::numeric_limits<double>::quiet_NaN();
+        std::copy(next_.begin(), next_.end(), x_.begin());
+    }
     report.solve_ms = elapsed_ms(start);
     return Status::ok();
 }

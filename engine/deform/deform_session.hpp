@@ -25,7 +25,7 @@ struct DeformSettings {
     // relative detail. Off by default (DESIGN.md).
     bool scale_heights = false;
     // Accuracy of each linear solve, in units of the rest diagonal.
-    double linear_tolerance = 1e-10;
+    double linear_tolerance = 1e-8;
     Preconditioner preconditioner = Preconditioner::cholesky;
     // Steps of history for Anderson acceleration of the outer iteration;
     // 0 runs the plain iteration.
@@ -37,7 +37,11 @@ struct SolveReport {
     bool converged = false;
     double last_update = 0.0;  // largest vertex move of the last iteration / diagonal
     std::size_t krylov_iterations = 0;
-    double linear_residual = 0.0;  // ‖b − N x‖ / ‖b‖ of the final, verified linear solve
+    // ‖b − N x‖ / ‖b‖ of the final, verified linear solve; NaN when that
+    // solve did not reach its error tolerance (linear_converged false) and
+    // the unchecked step was kept.
+    double linear_residual = 0.0;
+    bool linear_converged = false;
     double solve_ms = 0.0;
 };
 

@@ -29,15 +29,19 @@ public:
         // Inside the outer iteration: with the complete factor, one step
         // (exact up to rounding, unconfirmed); otherwise to the tolerance.
         one_step,
-        // To the tolerance, confirmed by the error estimate; failing that is
-        // an error.
+        // To the tolerance, confirmed by the error estimate; converged()
+        // says whether it was reached (a nearly singular system may not).
         verified,
     };
 
     // Solves N x = rhs (3 interleaved columns) starting from x; the
     // tolerance bounds the estimated error |M⁻¹ r|∞ in solution units.
+    // Fails only when the result is not finite.
     Status solve(std::span<const double> rhs, std::span<double> x, double tolerance,
                  Accuracy accuracy, std::size_t& iterations);
+
+    // Whether the last Krylov solve reached its tolerance in every column.
+    bool converged() const;
 
     // The largest ‖b − N x‖ / ‖b‖ over the three columns after the last
     // solve that ran the Krylov iteration (every verified one does).

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -13,6 +12,7 @@
 #include "dualform/commands.hpp"
 #include "dualform/edit_report.hpp"
 #include "dualform/edit_setup.hpp"
+#include "dualform/file_output.hpp"
 #include "dualform/json_writer.hpp"
 #include "dualform/scenario.hpp"
 
@@ -197,10 +197,7 @@ int run_bench(std::span<const std::string_view> args) {
     json.end_object();
     std::printf("%s\n", json.str().c_str());
     if (!json_path.empty()) {
-        std::ofstream out(json_path, std::ios::binary | std::ios::trunc);
-        out << json.str() << '\n';
-        out.close();
-        if (!out) return bad_input(json_path + ": cannot write");
+        if (Status s = write_text_file(json_path, json.str()); !s) return bad_input(s.message());
     }
     return exit_ok;
 }

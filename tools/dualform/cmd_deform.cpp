@@ -1,6 +1,5 @@
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <string>
 
 #include "deform/deform_session.hpp"
@@ -8,6 +7,7 @@
 #include "dualform/commands.hpp"
 #include "dualform/edit_report.hpp"
 #include "dualform/edit_setup.hpp"
+#include "dualform/file_output.hpp"
 #include "dualform/json_writer.hpp"
 #include "dualform/scenario.hpp"
 #include "mesh/write.hpp"
@@ -19,24 +19,6 @@ namespace {
 constexpr const char* usage =
     "usage: dualform deform SCENARIO --out MESH [--report JSON] [--roi-out TXT] [--strict]\n"
     "       [--preconditioner cholesky|incomplete_cholesky|jacobi] [--hard-handles]";
-
-Status write_lines(const std::string& path, std::span<const std::uint32_t> values) {
-    std::string text;
-    for (std::uint32_t v : values) text += std::to_string(v) + '\n';
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) return Status(Errc::io_error, path + ": cannot write");
-    return Status::ok();
-}
-
-Status write_text_file(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << text << '\n';
-    out.close();
-    if (!out) return Status(Errc::io_error, path + ": cannot write");
-    return Status::ok();
-}
 
 }  // namespace
 
@@ -124,7 +106,7 @@ int run_deform(std::span<const std::string_view> args) {
     result.triangles = model.mesh.triangles;
     if (Status s = mesh::save_mesh(out_path, result); !s) return bad_input(s.message());
     if (!roi_path.empty()) {
-        if (Status s = write_lines(roi_path, edit.roi); !s) return bad_input(s.message());
+        if (Status s = write_index_lines(roi_path, edit.roi); !s) return bad_input(s.message());
     }
 
     JsonWriter json;
@@ -144,6 +126,7 @@ int run_deform(std::span<const std::string_view> args) {
     json.key("ms_per_iteration").value(solved.iterations > 0 ? solved.solve_ms / solved.iterations : 0.0);
     json.key("krylov_iterations").value(std::uint64_t{solved.krylov_iterations});
     json.key("linear_residual").value(solved.linear_residual);
+    json.key("linear_converged").value(solved.linear_converged);
     json.key("preconditioner").value(deform::preconditioner_name(edit.settings.preconditioner));
     json.key("load_ms").value(std::chrono::duration<double, std::milli>(roi_start - start).count());
     write_quality(json, quality);

@@ -1,0 +1,24 @@
+#include "dualform/file_output.hpp"
+
+#include <fstream>
+
+namespace dfm::cli {
+
+Status write_text_file(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << text << '\n';
+    out.close();
+    if (!out) return Status(Errc::io_error, path + ": cannot write");
+    return Status::ok();
+}
+
+Status write_index_lines(const std::string& path, std::span<const std::uint32_t> values) {
+    std::string text;
+    for (std::uint32_t v : values) {
+        if (!text.empty()) text += '\n';
+        text += std::to_string(v);
+    }
+    return write_text_file(path, text);
+}
+
+}  // namespace dfm::cli
