@@ -52,20 +52,7 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
             }
             in_roi[v] = 1;
         }
-        // ROI vertices next to the outside stay put: they stitch the edit to
-        // the rest of the mesh.
-        std::vector<std::uint8_t> movable(in_roi);
-        bool has_boundary = false;
-        for (std::uint32_t v = 0; v < n; ++v) {
-            if (!in_roi[v]) continue;
-            for (std::uint32_t w : model.vertex_neighbors.of(v)) {
-                if (!in_roi[w]) {
-                    movable[v] = 0;
-                    has_boundary = true;
-                    break;
-                }
-            }
-        }
+        std::vector<std::uint8_t> is_handle(n, 0);
         for (std::size_t g = 0; g < handle_groups.size(); ++g) {
             for (std::uint32_t v : handle_groups[g]) {
                 const std::string where =
@@ -75,11 +62,26 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
                                                           std::to_string(n) + " vertices)");
                 }
                 if (!in_roi[v]) return Status(Errc::invalid_argument, where + " is outside the ROI");
-                if (!movable[v]) {
-                    return Status(Errc::invalid_argument,
-                                  where + " is on the ROI's boundary, which stays fixed");
+                if (is_handle[v]) {
+                    return Status(Errc::invalid_argument, where + " is in an earlier group too");
                 }
+                is_handle[v] = 1;
                 s->handle_vertices_.push_back(v);
+            }
+        }
+        // ROI vertices next to the outside stay put: they stitch the edit to
+        // the rest of the mesh. A handle there follows its target instead,
+        // as in the CGAL peer's set-up.
+        std::vector<std::uint8_t> movable(in_roi);
+        bool has_boundary = false;
+        for (std::uint32_t v = 0; v < n; ++v) {
+            if (!in_roi[v]) continue;
+            for (std::uint32_t w : model.vertex_neighbors.of(v)) {
+                if (!in_roi[w]) {
+                    has_boundary = true;
+                    if (!is_handle[v]) movable[v] = 0;
+                    break;
+                }
             }
         }
         if (s->handle_vertices_.empty() && !has_boundary) {

@@ -54,13 +54,13 @@ struct SetupReport {
 
 // One edit of one ROI with fixed handle groups: the system is assembled and
 // factored once, then solved as often as the targets change. Vertices outside
-// the ROI, and ROI vertices with a neighbour outside it, keep their rest
-// positions bit for bit.
+// the ROI, and ROI vertices with a neighbour outside it that are not handles,
+// keep their rest positions bit for bit.
 class DeformSession {
 public:
     // `roi` and every handle group hold vertex indices of model.mesh; handle
-    // vertices must lie in the ROI and not on its boundary. `positions` is
-    // where the edit starts (usually the rest pose).
+    // vertices must lie in the ROI, each in one group only. The edit starts
+    // from the rest pose. `model` must outlive the session.
     static Status create(const MeshModel& model, std::span<const std::uint32_t> roi,
                          std::span<const std::vector<std::uint32_t>> handle_groups,
                          const DeformSettings& settings, std::unique_ptr<DeformSession>& out);

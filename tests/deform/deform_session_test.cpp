@@ -37,6 +37,8 @@ std::vector<std::uint32_t> near_y(const mesh::Mesh& m, double lo, double hi) {
     return out;
 }
 
+std::vector<std::uint32_t> tip_of(const mesh::Mesh& m) { return near_y(m, 0.95, 1.0); }
+
 }  // namespace
 
 TEST_CASE("deform: zero handle motion returns the rest mesh") {
@@ -175,6 +177,15 @@ TEST_CASE("deform: bad set-ups and targets are refused with a reason") {
     deform::DeformSettings bad;
     bad.tolerance = -1.0;
     CHECK(deform::DeformSession::create(model, roi, none, bad, s).code() == Errc::invalid_argument);
+
+    // A handle on the ROI's boundary follows its target, as in the CGAL peer.
+    const std::vector<std::vector<std::uint32_t>> edge = {near_y(model.mesh, 0.3, 0.35)};
+    REQUIRE_FALSE(edge[0].empty());
+    REQUIRE(deform::DeformSession::create(model, roi, edge, {}, s).is_ok());
+    CHECK(s->unknowns().unknown_of_vertex[edge[0][0]] != mesh::no_index);
+    const std::vector<std::vector<std::uint32_t>> twice = {tip_of(model.mesh), tip_of(model.mesh)};
+    CHECK(deform::DeformSession::create(model, roi, twice, {}, s).message().find("earlier group") !=
+          std::string::npos);
 
     const std::vector<std::vector<std::uint32_t>> tip = {near_y(model.mesh, 0.95, 1.0)};
     REQUIRE(deform::DeformSession::create(model, roi, tip, {}, s).is_ok());
