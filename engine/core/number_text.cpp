@@ -15,7 +15,11 @@ void append_shortest(std::string& out, T value) {
 
 }  // namespace
 
-void append_number(std::string& out, double value) { append_shortest(out, value); }
-void append_number(std::string& out, float value) { append_shortest(out, value); }
+void append_number(std::string& out, double value) {
+    append_shortest(out, value);
+}
+void append_number(std::string& out, float value) {
+    append_shortest(out, value);
+}
 
 }  // namespace dfm

@@ -61,7 +61,8 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
                     return Status(Errc::out_of_range, where + " is out of range (the mesh has " +
                                                           std::to_string(n) + " vertices)");
                 }
-                if (!in_roi[v]) return Status(Errc::invalid_argument, where + " is outside the ROI");
+                if (!in_roi[v])
+                    return Status(Errc::invalid_argument, where + " is outside the ROI");
                 if (is_handle[v]) {
                     return Status(Errc::invalid_argument, where + " is in an earlier group too");
                 }
@@ -145,9 +146,9 @@ Status DeformSession::set_targets(std::span<const glm::dvec3> targets) {
     for (std::size_t h = 0; h < targets.size(); ++h) {
         const glm::dvec3& t = targets[h];
         if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z)) {
-            return Status(Errc::invalid_argument,
-                          "target " + std::to_string(h) + " (vertex " +
-                              std::to_string(handle_vertices_[h]) + ") is not finite");
+            return Status(Errc::invalid_argument, "target " + std::to_string(h) + " (vertex " +
+                                                      std::to_string(handle_vertices_[h]) +
+                                                      ") is not finite");
         }
     }
     std::copy(targets.begin(), targets.end(), targets_.begin());
@@ -263,8 +264,9 @@ Status DeformSession::solve(SolveReport& report) {
         report.last_update = largest / diag;
         if (!std::isfinite(report.last_update)) {
             report.solve_ms = elapsed_ms(start);
-            return Status(Errc::numerical, "the solve produced non-finite positions; the last "
-                                           "finite result is kept");
+            return Status(Errc::numerical,
+                          "the solve produced non-finite positions; the last "
+                          "finite result is kept");
         }
         if (report.last_update < settings_.tolerance) {
             store_solution();

@@ -104,8 +104,8 @@ private:
     std::vector<glm::dvec3> centroids_;
     std::vector<glm::dvec3> dual_targets_;  // l_r per row
     std::vector<double> rhs_;               // 3 interleaved columns
-    std::vector<double> x_;        // the linear solve's solution: G(current)
-    std::vector<double> current_;  // the iterate the dual targets come from
+    std::vector<double> x_;                 // the linear solve's solution: G(current)
+    std::vector<double> current_;           // the iterate the dual targets come from
     std::vector<double> next_;
     AndersonAccelerator anderson_;
     SetupReport setup_;

@@ -74,8 +74,8 @@ Status LinearSolver::solve(std::span<const double> rhs, std::span<double> x, dou
     }
     solver::PbcgOptions options;
     options.tolerance = tolerance;
-    if (Status st = solver::pbcg_solve(s.matrix, *s.preconditioner, rhs, x, 3, options,
-                                       s.workspace, s.result);
+    if (Status st = solver::pbcg_solve(s.matrix, *s.preconditioner, rhs, x, 3, options, s.workspace,
+                                       s.result);
         !st) {
         return st;
     }
@@ -86,7 +86,9 @@ Status LinearSolver::solve(std::span<const double> rhs, std::span<double> x, dou
     return Status::ok();
 }
 
-bool LinearSolver::converged() const { return state_->result.converged; }
+bool LinearSolver::converged() const {
+    return state_->result.converged;
+}
 
 double LinearSolver::relative_residual() const {
     double worst = 0.0;

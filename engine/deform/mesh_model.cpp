@@ -12,7 +12,8 @@ MeshModel build_mesh_model(mesh::Mesh m) {
     model.mesh = std::move(m);
     const mesh::Mesh& mesh = model.mesh;
     model.topology = mesh::build_edge_topology(mesh);
-    model.vertex_neighbors = mesh::build_vertex_adjacency(mesh.vertex_count(), model.topology.edges);
+    model.vertex_neighbors =
+        mesh::build_vertex_adjacency(mesh.vertex_count(), model.topology.edges);
     model.dual = dual::build_dual_laplacian(mesh, model.topology);
     model.diagonal = mesh::compute_bounds(mesh.positions).diagonal();
 
@@ -34,9 +35,9 @@ MeshModel build_mesh_model(mesh::Mesh m) {
 Status bake_positions(const MeshModel& model, std::span<const glm::dvec3> positions,
                       MeshModel& out) {
     if (positions.size() != model.mesh.vertex_count()) {
-        return Status(Errc::invalid_argument, "expected " + std::to_string(model.mesh.vertex_count()) +
-                                                  " positions, got " +
-                                                  std::to_string(positions.size()));
+        return Status(Errc::invalid_argument,
+                      "expected " + std::to_string(model.mesh.vertex_count()) + " positions, got " +
+                          std::to_string(positions.size()));
     }
     for (std::size_t v = 0; v < positions.size(); ++v) {
         const glm::dvec3& p = positions[v];

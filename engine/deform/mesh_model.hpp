@@ -35,6 +35,7 @@ MeshModel build_mesh_model(mesh::Mesh mesh);
 // Bakes an edit: a new model whose rest pose is `positions` (same triangles),
 // with the dual Laplacian measured anew, so the next edit starts from the
 // deformed shape. Fails on a size mismatch or a non-finite position.
-Status bake_positions(const MeshModel& model, std::span<const glm::dvec3> positions, MeshModel& out);
+Status bake_positions(const MeshModel& model, std::span<const glm::dvec3> positions,
+                      MeshModel& out);
 
 }  // namespace dfm::deform

@@ -59,9 +59,10 @@ solver::CsrMatrix assemble_normal_matrix(const SystemRows& rows, std::size_t unk
         }
     }
     for (std::uint32_t u : soft_handles) diagonal[u] += handle_weight * handle_weight;
-    const double mean = unknown_count == 0 ? 0.0
-                                           : std::accumulate(diagonal.begin(), diagonal.end(), 0.0) /
-                                                 static_cast<double>(unknown_count);
+    const double mean = unknown_count == 0
+                            ? 0.0
+                            : std::accumulate(diagonal.begin(), diagonal.end(), 0.0) /
+                                  static_cast<double>(unknown_count);
     epsilon = relative_epsilon * mean;
     std::vector<double> handle_term(unknown_count, 0.0);
     for (std::uint32_t u : soft_handles) handle_term[u] += handle_weight * handle_weight;

@@ -50,7 +50,9 @@ QualityReport measure_quality(const MeshModel& model, std::span<const glm::dvec3
     q.mean_abs_log_edge = edges > 0 ? log_sum / static_cast<double>(edges) : 0.0;
 
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-        if (!in_roi[v]) q.max_fixed_move = std::max(q.max_fixed_move, glm::length(deformed[v] - rest[v]) / diag);
+        if (!in_roi[v])
+            q.max_fixed_move =
+                std::max(q.max_fixed_move, glm::length(deformed[v] - rest[v]) / diag);
     }
 
     std::vector<glm::dvec3> new_c(mesh.face_count());
@@ -63,7 +65,8 @@ QualityReport measure_quality(const MeshModel& model, std::span<const glm::dvec3
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
         const mesh::Triangle& t = mesh.triangles[f];
         if (!in_roi[t[0]] && !in_roi[t[1]] && !in_roi[t[2]]) continue;
-        const double cosine = std::clamp(glm::dot(face_normal(t, rest), face_normal(t, deformed)), -1.0, 1.0);
+        const double cosine =
+            std::clamp(glm::dot(face_normal(t, rest), face_normal(t, deformed)), -1.0, 1.0);
         const double degrees = std::acos(cosine) * 180.0 / std::numbers::pi;
         angle_sum += degrees;
         if (degrees > 90.0) ++q.flipped_faces;

@@ -62,8 +62,8 @@ Status read_file_bytes(const std::filesystem::path& path, std::string& bytes) {
     bytes.resize(static_cast<std::size_t>(size));
     in.read(bytes.data(), size);
     if (in.gcount() != size) {
-        return Status(Errc::io_error, name + ": read failed after " +
-                                          std::to_string(in.gcount()) + " bytes");
+        return Status(Errc::io_error,
+                      name + ": read failed after " + std::to_string(in.gcount()) + " bytes");
     }
     if (bytes.empty()) return Status(Errc::parse_error, name + ": the file is empty");
     return Status::ok();

@@ -4,7 +4,9 @@
 
 namespace dfm::mesh {
 
-double Bounds::diagonal() const { return empty ? 0.0 : glm::length(max - min); }
+double Bounds::diagonal() const {
+    return empty ? 0.0 : glm::length(max - min);
+}
 
 Bounds compute_bounds(std::span<const glm::dvec3> points) {
     Bounds b;

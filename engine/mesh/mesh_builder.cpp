@@ -50,10 +50,10 @@ Status MeshBuilder::add_polygon(std::span<const std::int64_t> corners, const Whe
     for (std::size_t k = 0; k < corners.size(); ++k) {
         const std::int64_t i = corners[k];
         if (i < 0 || i >= n) {
-            return where.error(Errc::out_of_range,
-                               face() + ": vertex index " + std::to_string(i) +
-                                   " is out of range (the mesh has " + std::to_string(n) +
-                                   " vertices, indexed from 0)");
+            return where.error(Errc::out_of_range, face() + ": vertex index " + std::to_string(i) +
+                                                       " is out of range (the mesh has " +
+                                                       std::to_string(n) +
+                                                       " vertices, indexed from 0)");
         }
         const auto v = static_cast<std::uint32_t>(i);
         if (ring_.empty() || ring_.back() != v) ring_.push_back(v);

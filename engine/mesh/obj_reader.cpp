@@ -30,7 +30,8 @@ Status resolve(std::string_view token, const char* kind, std::int64_t defined,
                               std::string(describe_number_error(e)));
     }
     if (value == 0) {
-        return at.error(Errc::out_of_range, face + kind + " index 0 is invalid (OBJ counts from 1)");
+        return at.error(Errc::out_of_range,
+                        face + kind + " index 0 is invalid (OBJ counts from 1)");
     }
     index = value > 0 ? value - 1 : defined + value;
     if (index < 0 || index >= defined) {
@@ -64,7 +65,8 @@ Status read_face(Tokens& tokens, const ObjCounts& counts, std::size_t face_index
     while (tokens.next(token)) {
         const std::size_t slash1 = token.find('/');
         std::int64_t v = 0;
-        if (Status s = resolve(token.substr(0, slash1), "vertex", counts.positions, face, at, v); !s) {
+        if (Status s = resolve(token.substr(0, slash1), "vertex", counts.positions, face, at, v);
+            !s) {
             return s;
         }
         if (slash1 != std::string_view::npos) {
@@ -73,7 +75,8 @@ Status read_face(Tokens& tokens, const ObjCounts& counts, std::size_t face_index
             const std::string_view vt = rest.substr(0, slash2);
             std::int64_t unused = 0;
             if (!vt.empty()) {
-                if (Status s = resolve(vt, "texture coordinate", counts.texcoords, face, at, unused);
+                if (Status s =
+                        resolve(vt, "texture coordinate", counts.texcoords, face, at, unused);
                     !s) {
                     return s;
                 }

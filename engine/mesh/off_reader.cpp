@@ -90,10 +90,10 @@ Status read_off(std::string_view text, std::string_view source, MeshBuilder& bui
     const std::uint64_t left = cursor.remaining_bytes();
     if (nv > left / min_record_bytes || nf > left / min_record_bytes ||
         (nv + nf) * min_record_bytes > left + 1) {
-        return counts_at.parse_error(
-            "the header declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
-            " faces, more than the remaining " + std::to_string(left) +
-            " bytes can hold (truncated file or wrong counts)");
+        return counts_at.parse_error("the header declares " + std::to_string(nv) +
+                                     " vertices and " + std::to_string(nf) +
+                                     " faces, more than the remaining " + std::to_string(left) +
+                                     " bytes can hold (truncated file or wrong counts)");
     }
     builder.reserve(std::min(nv, left / typical_vertex_bytes), std::min(nf, left / 8));
 
@@ -109,8 +109,8 @@ Status read_off(std::string_view text, std::string_view source, MeshBuilder& bui
         for (int c = 0; c < 3; ++c) {
             std::string_view token;
             if (!tokens.next(token)) {
-                return at.parse_error("vertex " + std::to_string(i) + ": expected 3 coordinates, found " +
-                                      std::to_string(c));
+                return at.parse_error("vertex " + std::to_string(i) +
+                                      ": expected 3 coordinates, found " + std::to_string(c));
             }
             if (const NumberError e = parse_double(token, p[c]); e != NumberError::none) {
                 return at.parse_error("vertex " + std::to_string(i) + ": coordinate " +
@@ -138,7 +138,8 @@ Status read_off(std::string_view text, std::string_view source, MeshBuilder& bui
             return at.parse_error(face + "vertex count " + quote_token(token) + " is " +
                                   std::string(describe_number_error(e)));
         }
-        if (k < 0) return at.parse_error(face + "vertex count " + std::to_string(k) + " is negative");
+        if (k < 0)
+            return at.parse_error(face + "vertex count " + std::to_string(k) + " is negative");
         if (Status s = builder.check_polygon_size(static_cast<std::uint64_t>(k), at); !s) return s;
         const std::size_t available = tokens.count_remaining();
         if (available < static_cast<std::uint64_t>(k)) {

@@ -19,7 +19,9 @@ std::size_t scalar_size(Scalar type) {
     return 0;
 }
 
-bool scalar_is_integer(Scalar type) { return type != Scalar::float32 && type != Scalar::float64; }
+bool scalar_is_integer(Scalar type) {
+    return type != Scalar::float32 && type != Scalar::float64;
+}
 
 namespace {
 
@@ -126,8 +128,8 @@ Status parse_format(Tokens& tokens, const Where& at, Header& header) {
         return at.parse_error("format: unknown encoding " + quote_token(name));
     }
     if (version != "1.0") {
-        return at.error(Errc::unsupported, "format: version " + quote_token(version) +
-                                               " is not supported (only 1.0)");
+        return at.error(Errc::unsupported,
+                        "format: version " + quote_token(version) + " is not supported (only 1.0)");
     }
     return Status::ok();
 }
@@ -168,8 +170,7 @@ Status parse_header(std::string_view bytes, std::string_view source, Header& hea
             return at.parse_error("unknown header keyword " + quote_token(keyword));
         }
     }
-    return Where::line(source, cursor.line())
-        .parse_error("truncated header: no 'end_header' line");
+    return Where::line(source, cursor.line()).parse_error("truncated header: no 'end_header' line");
 }
 
 }  // namespace dfm::mesh::ply

@@ -34,7 +34,7 @@ struct Element {
 struct Header {
     Encoding encoding = Encoding::ascii;
     std::vector<Element> elements;
-    std::size_t body_offset = 0;      // first byte after "end_header"
+    std::size_t body_offset = 0;        // first byte after "end_header"
     std::uint64_t body_first_line = 0;  // the body's first line, for ascii
 };
 

@@ -61,7 +61,8 @@ Status plan_elements(const ply::Header& header, std::string_view source,
                                           "' must be a list of integers");
                 }
                 if (has_indices) {
-                    return at.parse_error("element 'face' has both vertex_indices and vertex_index");
+                    return at.parse_error(
+                        "element 'face' has both vertex_indices and vertex_index");
                 }
                 role = Role::face_indices;
                 has_indices = true;
@@ -174,8 +175,8 @@ private:
         }
         unsigned char raw[8];
         std::memcpy(raw, body_.data() + pos_, size);
-        const bool swap = (encoding_ == Encoding::binary_big_endian) !=
-                          (std::endian::native == std::endian::big);
+        const bool swap =
+            (encoding_ == Encoding::binary_big_endian) != (std::endian::native == std::endian::big);
         if (swap) {
             for (std::size_t i = 0; i < size / 2; ++i) std::swap(raw[i], raw[size - 1 - i]);
         }

@@ -18,7 +18,8 @@ public:
         unsigned char raw[sizeof(T)];
         std::memcpy(raw, &value, sizeof(T));
         if (swap_) {
-            for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
+            for (std::size_t i = 0; i < sizeof(T) / 2; ++i)
+                std::swap(raw[i], raw[sizeof(T) - 1 - i]);
         }
         out_.append(reinterpret_cast<const char*>(raw), sizeof(T));
     }

@@ -25,7 +25,8 @@ Status save_mesh(const std::filesystem::path& path, const Mesh& mesh, const Writ
         temp += ".partial";
         {
             std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-            if (!out) return Status(Errc::io_error, name + ": cannot create: " + std::strerror(errno));
+            if (!out)
+                return Status(Errc::io_error, name + ": cannot create: " + std::strerror(errno));
             out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
             out.close();
             if (!out) {

@@ -10,8 +10,8 @@ namespace {
 
 std::uint32_t find_edge(const EdgeTopology& topo, std::uint32_t a, std::uint32_t b) {
     const std::array<std::uint32_t, 2> key{std::min(a, b), std::max(a, b)};
-    return static_cast<std::uint32_t>(
-        std::lower_bound(topo.edges.begin(), topo.edges.end(), key) - topo.edges.begin());
+    return static_cast<std::uint32_t>(std::lower_bound(topo.edges.begin(), topo.edges.end(), key) -
+                                      topo.edges.begin());
 }
 
 double loop_beta(std::size_t valence) {
@@ -64,7 +64,8 @@ Mesh subdivide_loop(const Mesh& mesh) {
             out.positions[v] = 0.75 * p + 0.125 * boundary_sum[v];
         } else {
             const double beta = loop_beta(valence[v]);
-            out.positions[v] = (1.0 - static_cast<double>(valence[v]) * beta) * p + beta * ring_sum[v];
+            out.positions[v] =
+                (1.0 - static_cast<double>(valence[v]) * beta) * p + beta * ring_sum[v];
         }
     }
     for (std::size_t e = 0; e < e_count; ++e) {

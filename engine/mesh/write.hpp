@@ -13,8 +13,8 @@ enum class PlyEncoding { binary_little_endian, binary_big_endian, ascii };
 
 struct WriteOptions {
     PlyEncoding ply_encoding = PlyEncoding::binary_little_endian;
-    bool ply_double = true;     // double coordinates (exact); float when false
-    bool obj_normals = false;   // area-weighted vertex normals as "vn", faces as v//vn
+    bool ply_double = true;    // double coordinates (exact); float when false
+    bool obj_normals = false;  // area-weighted vertex normals as "vn", faces as v//vn
 };
 
 // Each writes the whole file into `out`; coordinates round-trip exactly

@@ -9,7 +9,9 @@ namespace dfm::pick {
 
 namespace {
 
-bool finite(glm::dvec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(glm::dvec3 v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 // The camera's orthonormal frame and the half extents of the image plane at
 // unit distance along `forward`.

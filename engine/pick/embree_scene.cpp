@@ -54,9 +54,9 @@ struct EmbreeScene::Impl {
     static void on_error(void* user, RTCError code, const char* message) {
         auto* self = static_cast<Impl*>(user);
         if (self->error_code != Errc::ok) return;  // the first error explains the rest
-        self->error_code = code == RTC_ERROR_OUT_OF_MEMORY ? Errc::out_of_memory
+        self->error_code = code == RTC_ERROR_OUT_OF_MEMORY     ? Errc::out_of_memory
                            : code == RTC_ERROR_UNSUPPORTED_CPU ? Errc::unsupported
-                                                                : Errc::invalid_argument;
+                                                               : Errc::invalid_argument;
         self->error = message ? message : "unknown error";
         self->error += " (Embree error code ";
         self->error += std::to_string(static_cast<int>(code));
@@ -157,8 +157,8 @@ Status EmbreeScene::refit(std::span<const glm::dvec3> positions) {
                           std::to_string(impl_->positions.size()) + " vertices");
     }
     if (Status s = check_positions(positions); !s) return s;
-    auto* vertices = static_cast<float*>(
-        rtcGetGeometryBufferData(impl_->geometry, RTC_BUFFER_TYPE_VERTEX, 0));
+    auto* vertices =
+        static_cast<float*>(rtcGetGeometryBufferData(impl_->geometry, RTC_BUFFER_TYPE_VERTEX, 0));
     if (Status s = impl_->take_error("map the vertex buffer"); !s) return s;
     copy_to_floats(positions, vertices);
     impl_->positions.assign(positions.begin(), positions.end());

@@ -112,7 +112,8 @@ bool bounded_by_last_loop(const SurfaceView& s, std::uint32_t last,
             const double sb = side(b);
             if (sb < 0.0) continue;
             const double t = sa / (sa - sb);
-            const double d = glm::length(s.positions[a] + t * (s.positions[b] - s.positions[a]) - p);
+            const double d =
+                glm::length(s.positions[a] + t * (s.positions[b] - s.positions[a]) - p);
             if (d < best) {
                 best = d;
                 bounded = in_region[a] != 0;

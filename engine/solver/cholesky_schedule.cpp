@@ -29,8 +29,7 @@ CholeskySchedule make_cholesky_schedule(const CholeskySymbolic& sym, std::size_t
     };
     std::vector<std::uint32_t> heap = roots;
     std::make_heap(heap.begin(), heap.end(), heavier);
-    while (!heap.empty() && subtree_work[heap.front()] > share &&
-           !children[heap.front()].empty()) {
+    while (!heap.empty() && subtree_work[heap.front()] > share && !children[heap.front()].empty()) {
         std::pop_heap(heap.begin(), heap.end(), heavier);
         const std::uint32_t s = heap.back();
         heap.pop_back();
@@ -54,6 +53,5 @@ CholeskySchedule make_cholesky_schedule(const CholeskySymbolic& sym, std::size_t
     for (auto& list : schedule.subtrees) std::sort(list.begin(), list.end());
     return schedule;
 }
-
 
 }  // namespace dfm::solver

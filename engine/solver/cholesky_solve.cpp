@@ -11,9 +11,8 @@ namespace {
 // L y = y over one supernode: its diagonal block, then the updates it makes
 // to the rows below it, pushed into those rows that come before `push_end`
 // (gathered into `below`, one column per vector, and scattered back).
-void forward_supernode(const CholeskySymbolic& sym, std::span<const double> values,
-                       std::uint32_t s, double* y, std::size_t k, double* below,
-                       std::uint32_t push_end) {
+void forward_supernode(const CholeskySymbolic& sym, std::span<const double> values, std::uint32_t s,
+                       double* y, std::size_t k, double* below, std::uint32_t push_end) {
     const std::size_t first = sym.column_begin[s];
     const std::size_t w = sym.column_begin[s + 1] - first;
     const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];

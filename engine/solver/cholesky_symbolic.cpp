@@ -30,8 +30,8 @@ std::vector<std::uint32_t> fundamental_supernodes(std::span<const std::uint32_t>
         if (parent[j] != no_parent) ++children[parent[j]];
     std::vector<std::uint32_t> begin;
     for (std::uint32_t j = 0; j < n; ++j) {
-        const bool continues = j > 0 && parent[j - 1] == j && counts[j - 1] == counts[j] + 1 &&
-                               children[j] == 1;
+        const bool continues =
+            j > 0 && parent[j - 1] == j && counts[j - 1] == counts[j] + 1 && children[j] == 1;
         if (!continues) begin.push_back(j);
     }
     begin.push_back(static_cast<std::uint32_t>(n));
@@ -69,10 +69,9 @@ std::vector<std::uint32_t> amalgamate(std::span<const std::uint32_t> fundamental
         const std::size_t merged_rows = width + rows[t];
         const double merged_zeros =
             zeros[t] + static_cast<double>(width) * static_cast<double>(merged_rows - rows[j]);
-        const double size = static_cast<double>(merged_columns) *
-                                static_cast<double>(merged_columns + 1) / 2.0 +
-                            static_cast<double>(merged_columns) *
-                                static_cast<double>(merged_rows - merged_columns);
+        const double size =
+            static_cast<double>(merged_columns) * static_cast<double>(merged_columns + 1) / 2.0 +
+            static_cast<double>(merged_columns) * static_cast<double>(merged_rows - merged_columns);
         bool merge = merged_columns <= always_merge_columns;
         for (const Relaxation& r : relaxations)
             merge = merge || (merged_columns <= r.columns && merged_zeros < r.zero_share * size);
@@ -216,8 +215,8 @@ Status analyze_cholesky(const CsrMatrix& a, std::span<const std::uint32_t> perm,
                         CholeskySymbolic& out) {
     out = CholeskySymbolic{};
     if (a.rows != a.cols)
-        return {Errc::invalid_argument, "Cholesky: the matrix is " + std::to_string(a.rows) +
-                                            "×" + std::to_string(a.cols) + ", not square"};
+        return {Errc::invalid_argument, "Cholesky: the matrix is " + std::to_string(a.rows) + "×" +
+                                            std::to_string(a.cols) + ", not square"};
     const std::size_t n = a.rows;
     if (!is_permutation(perm, n))
         return {Errc::invalid_argument,

@@ -83,5 +83,4 @@ struct CholeskySymbolic {
 Status analyze_cholesky(const CsrMatrix& a, std::span<const std::uint32_t> perm,
                         CholeskySymbolic& out);
 
-
 }  // namespace dfm::solver

@@ -35,7 +35,8 @@ std::vector<double> CsrMatrix::diagonal() const {
         const auto begin = col_indices.begin() + static_cast<std::ptrdiff_t>(row_offsets[i]);
         const auto end = col_indices.begin() + static_cast<std::ptrdiff_t>(row_offsets[i + 1]);
         const auto it = std::lower_bound(begin, end, static_cast<std::uint32_t>(i));
-        if (it != end && *it == i) d[i] = values[static_cast<std::size_t>(it - col_indices.begin())];
+        if (it != end && *it == i)
+            d[i] = values[static_cast<std::size_t>(it - col_indices.begin())];
     }
     return d;
 }

@@ -175,8 +175,7 @@ DFM_TARGET_AVX2 void product_nt_avx2(std::size_t m, std::size_t n, std::size_t k
 }
 
 [[gnu::always_inline]] inline void subtract_transposed_product_body(std::size_t h, std::size_t w,
-                                                                    std::size_t k,
-                                                                    const double* l,
+                                                                    std::size_t k, const double* l,
                                                                     std::size_t ldl,
                                                                     const double* y, double* x) {
     const std::size_t h4 = h - h % 4;
@@ -200,8 +199,8 @@ DFM_TARGET_AVX2 std::size_t factor_diagonal_avx2(std::size_t w, double* p, std::
 }
 
 DFM_TARGET_AVX2 void solve_right_lower_transposed_avx2(std::size_t m, std::size_t w,
-                                                       const double* l, std::size_t ldl,
-                                                       double* x, std::size_t ldx) {
+                                                       const double* l, std::size_t ldl, double* x,
+                                                       std::size_t ldx) {
     solve_right_lower_transposed_body(m, w, l, ldl, x, ldx);
 }
 
@@ -211,10 +210,9 @@ DFM_TARGET_AVX2 void subtract_product_avx2(std::size_t h, std::size_t w, std::si
     subtract_product_body(h, w, k, l, ldl, x, y);
 }
 
-DFM_TARGET_AVX2 void subtract_transposed_product_avx2(std::size_t h, std::size_t w,
-                                                      std::size_t k, const double* l,
-                                                      std::size_t ldl, const double* y,
-                                                      double* x) {
+DFM_TARGET_AVX2 void subtract_transposed_product_avx2(std::size_t h, std::size_t w, std::size_t k,
+                                                      const double* l, std::size_t ldl,
+                                                      const double* y, double* x) {
     subtract_transposed_product_body(h, w, k, l, ldl, y, x);
 }
 #endif
@@ -256,8 +254,8 @@ void solve_right_lower_transposed(std::size_t m, std::size_t w, const double* l,
     solve_right_lower_transposed_body(m, w, l, ldl, x, ldx);
 }
 
-void subtract_product(std::size_t h, std::size_t w, std::size_t k, const double* l,
-                      std::size_t ldl, const double* x, double* y) {
+void subtract_product(std::size_t h, std::size_t w, std::size_t k, const double* l, std::size_t ldl,
+                      const double* x, double* y) {
 #if DFM_HAS_AVX2_KERNELS
     if (avx2_available()) return subtract_product_avx2(h, w, k, l, ldl, x, y);
 #endif

@@ -30,8 +30,8 @@ void solve_right_lower_transposed(std::size_t m, std::size_t w, const double* l,
 // Y −= L X for the triangular solves: Y is h×k column-major (leading
 // dimension h), L h×w (leading dimension ldl), X w×k interleaved (x[j k + c]).
 // Each entry subtracts its terms one by one, j ascending.
-void subtract_product(std::size_t h, std::size_t w, std::size_t k, const double* l,
-                      std::size_t ldl, const double* x, double* y);
+void subtract_product(std::size_t h, std::size_t w, std::size_t k, const double* l, std::size_t ldl,
+                      const double* x, double* y);
 
 // X −= Lᵀ Y, shapes as above: each entry of X subtracts one sum, accumulated
 // in four interleaved partial sums over t (t mod 4), combined as

@@ -34,7 +34,8 @@ PermutedColumns permuted_columns(const CsrMatrix& a, std::span<const std::uint32
     return out;
 }
 
-PermutedColumns renumbered_columns(const PermutedColumns& from, std::span<const std::uint32_t> order,
+PermutedColumns renumbered_columns(const PermutedColumns& from,
+                                   std::span<const std::uint32_t> order,
                                    std::span<const std::uint32_t> renumber) {
     PermutedColumns out;
     out.begin.resize(from.size() + 1);

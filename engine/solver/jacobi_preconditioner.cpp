@@ -7,14 +7,12 @@ namespace dfm::solver {
 
 Status JacobiPreconditioner::setup(const CsrMatrix& a) {
     inverse_diagonal_.clear();
-    if (a.rows != a.cols)
-        return {Errc::invalid_argument, "Jacobi: the matrix is not square"};
+    if (a.rows != a.cols) return {Errc::invalid_argument, "Jacobi: the matrix is not square"};
     std::vector<double> diagonal = a.diagonal();
     for (std::size_t i = 0; i < diagonal.size(); ++i) {
         if (diagonal[i] == 0.0 || !std::isfinite(diagonal[i]))
-            return {Errc::numerical,
-                    "Jacobi: the diagonal entry of row " + std::to_string(i) + " is " +
-                        (diagonal[i] == 0.0 ? "zero" : "not finite")};
+            return {Errc::numerical, "Jacobi: the diagonal entry of row " + std::to_string(i) +
+                                         " is " + (diagonal[i] == 0.0 ? "zero" : "not finite")};
         diagonal[i] = 1.0 / diagonal[i];
     }
     inverse_diagonal_ = std::move(diagonal);

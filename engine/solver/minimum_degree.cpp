@@ -14,7 +14,9 @@ constexpr Index none = -1;
 
 // A reference to object j stored where a list pointer would be: "absorbed
 // into j" for variables and elements, -1 ("root") for none.
-constexpr Index flip(Index j) { return -j - 2; }
+constexpr Index flip(Index j) {
+    return -j - 2;
+}
 
 // Approximate minimum degree on the quotient graph (Amestoy, Davis and Duff,
 // SIAM J. Matrix Anal. Appl. 17(4), 1996). Variables are the graph's

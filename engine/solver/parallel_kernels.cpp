@@ -13,9 +13,8 @@ constexpr double infinity = std::numeric_limits<double>::infinity();
 // Runs body(begin, end, block) for every block of rows.
 template <class Body>
 void for_blocks(std::size_t n, ThreadPool* pool, Body&& body) {
-    run_tasks(pool, block_count(n), [&](std::size_t b) {
-        body(b * block_rows, std::min(n, (b + 1) * block_rows), b);
-    });
+    run_tasks(pool, block_count(n),
+              [&](std::size_t b) { body(b * block_rows, std::min(n, (b + 1) * block_rows), b); });
 }
 
 }  // namespace

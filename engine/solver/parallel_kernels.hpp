@@ -17,7 +17,9 @@ inline constexpr std::size_t block_rows = 2048;
 
 // How many blocks n rows make, which is how many partial sums per vector a
 // reduction needs room for.
-constexpr std::size_t block_count(std::size_t n) { return (n + block_rows - 1) / block_rows; }
+constexpr std::size_t block_count(std::size_t n) {
+    return (n + block_rows - 1) / block_rows;
+}
 
 // y = A x; each row computed as CsrMatrix::multiply does.
 void multiply(const CsrMatrix& a, std::span<const double> x, std::span<double> y, std::size_t k,

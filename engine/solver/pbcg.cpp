@@ -23,7 +23,9 @@ PbcgWorkspace::PbcgWorkspace(std::size_t n, std::size_t k, bool general)
 
 namespace {
 
-bool usable(double v) { return v != 0.0 && std::isfinite(v); }
+bool usable(double v) {
+    return v != 0.0 && std::isfinite(v);
+}
 
 // r = b − A x.
 void residual(const CsrMatrix& a, std::span<const double> b, std::span<const double> x,
@@ -45,9 +47,9 @@ Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double>
                                             " entries (n = " + std::to_string(n) +
                                             ", k = " + std::to_string(k) + ")"};
     if (work.size() != n || work.columns() < k)
-        return {Errc::invalid_argument, "PBCG: the workspace is sized for n = " +
-                                            std::to_string(work.size()) + ", k = " +
-                                            std::to_string(work.columns())};
+        return {Errc::invalid_argument,
+                "PBCG: the workspace is sized for n = " + std::to_string(work.size()) +
+                    ", k = " + std::to_string(work.columns())};
     if (!options.symmetric && !work.general())
         return {Errc::invalid_argument,
                 "PBCG: the general algorithm needs a workspace made with general = true"};
@@ -59,10 +61,9 @@ Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double>
 
     ThreadPool* pool = options.pool;
     constexpr std::size_t exact_stagnation_limit = 3;
-    const std::size_t stagnation_limit =
-        options.stagnation_limit != 0 ? options.stagnation_limit
-        : m.is_exact()                ? exact_stagnation_limit
-                                      : 0;
+    const std::size_t stagnation_limit = options.stagnation_limit != 0 ? options.stagnation_limit
+                                         : m.is_exact()                ? exact_stagnation_limit
+                                                                       : 0;
     const bool general = !options.symmetric;
     const std::span<double> r(work.r_.data(), n * k);
     const std::span<double> z(work.z_.data(), n * k);

@@ -1,6 +1,6 @@
 #include <algorithm>
-#include <cstdlib>
 #include <array>
+#include <cstdlib>
 #include <limits>
 
 #include "solver/vertex_separator.hpp"

@@ -4,8 +4,8 @@
 #include <limits>
 #include <string>
 
-#include "solver/dense_kernels.hpp"
 #include "solver/cholesky_schedule.hpp"
+#include "solver/dense_kernels.hpp"
 #include "solver/elimination_tree.hpp"
 
 namespace dfm::solver {

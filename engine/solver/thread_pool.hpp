@@ -38,9 +38,9 @@ public:
             return;
         }
         using Callable = std::remove_reference_t<Task>;
-        dispatch(count,
-                 [](void* context, std::size_t i) { (*static_cast<Callable*>(context))(i); },
-                 const_cast<void*>(static_cast<const void*>(&task)));
+        dispatch(
+            count, [](void* context, std::size_t i) { (*static_cast<Callable*>(context))(i); },
+            const_cast<void*>(static_cast<const void*>(&task)));
     }
 
 private:

@@ -39,7 +39,9 @@ std::int64_t total_weight(const WeightedGraph& g) {
 }
 
 // The heavier side may hold this much of the graph's weight.
-std::int64_t side_limit(const WeightedGraph& g) { return (total_weight(g) * 3 + 4) / 5; }
+std::int64_t side_limit(const WeightedGraph& g) {
+    return (total_weight(g) * 3 + 4) / 5;
+}
 
 // Heavy-edge matching in a random order; matched pairs become one coarse
 // vertex. Caps coarse vertex weights so no vertex swallows the graph.

@@ -37,7 +37,9 @@ std::vector<std::uint32_t> near_y(const mesh::Mesh& m, double lo, double hi) {
     return out;
 }
 
-std::vector<std::uint32_t> tip_of(const mesh::Mesh& m) { return near_y(m, 0.95, 1.0); }
+std::vector<std::uint32_t> tip_of(const mesh::Mesh& m) {
+    return near_y(m, 0.95, 1.0);
+}
 
 }  // namespace
 
@@ -45,7 +47,8 @@ TEST_CASE("deform: zero handle motion returns the rest mesh") {
     const deform::MeshModel model = deform::build_mesh_model(test::make_limb(16, 12, 0.2, 2.0));
     const std::vector<std::vector<std::uint32_t>> groups = {near_y(model.mesh, 1.9, 2.0)};
     std::unique_ptr<deform::DeformSession> s;
-    REQUIRE(deform::DeformSession::create(model, near_y(model.mesh, 0.3, 2.0), groups, {}, s).is_ok());
+    REQUIRE(
+        deform::DeformSession::create(model, near_y(model.mesh, 0.3, 2.0), groups, {}, s).is_ok());
     deform::SolveReport r;
     REQUIRE(s->solve(r).is_ok());
     CHECK(r.converged);
@@ -94,15 +97,18 @@ TEST_CASE("deform: rotation invariance: both ends rotated give the rotated rest 
         settings.max_iterations = iterations;
         settings.tolerance = 1e-9;
         std::unique_ptr<deform::DeformSession> s;
-        REQUIRE(deform::DeformSession::create(model, all_vertices(model.mesh), groups, settings, s).is_ok());
+        REQUIRE(deform::DeformSession::create(model, all_vertices(model.mesh), groups, settings, s)
+                    .is_ok());
         std::vector<glm::dvec3> targets;
-        for (std::uint32_t v : s->handle_vertices()) targets.push_back(rotated(model.mesh.positions[v]));
+        for (std::uint32_t v : s->handle_vertices())
+            targets.push_back(rotated(model.mesh.positions[v]));
         REQUIRE(s->set_targets(targets).is_ok());
         deform::SolveReport r;
         REQUIRE(s->solve(r).is_ok());
         double worst = 0.0;
         for (std::size_t v = 0; v < model.mesh.vertex_count(); ++v) {
-            worst = std::max(worst, glm::length(s->positions()[v] - rotated(model.mesh.positions[v])));
+            worst =
+                std::max(worst, glm::length(s->positions()[v] - rotated(model.mesh.positions[v])));
         }
         if (iterations == 1) {
             CHECK(worst > 1e-2 * model.diagonal);  // a linear Laplacian alone fails this
@@ -155,7 +161,8 @@ TEST_CASE("deform: open grid with a ROI and a handle: finite, handle met") {
         CHECK(all_finite(s->positions()));
         double worst = 0.0;
         for (std::size_t h = 0; h < targets.size(); ++h) {
-            worst = std::max(worst, glm::length(s->positions()[s->handle_vertices()[h]] - targets[h]));
+            worst =
+                std::max(worst, glm::length(s->positions()[s->handle_vertices()[h]] - targets[h]));
         }
         CHECK(worst < (hard ? 1e-12 : 0.05) * model.diagonal);
     }
@@ -166,8 +173,9 @@ TEST_CASE("deform: bad set-ups and targets are refused with a reason") {
     std::unique_ptr<deform::DeformSession> s;
     const std::vector<std::uint32_t> roi = near_y(model.mesh, 0.3, 1.0);
     const std::vector<std::vector<std::uint32_t>> outside = {{0}};
-    CHECK(deform::DeformSession::create(model, roi, outside, {}, s).message().find("outside the ROI") !=
-          std::string::npos);
+    CHECK(deform::DeformSession::create(model, roi, outside, {}, s)
+              .message()
+              .find("outside the ROI") != std::string::npos);
     const std::vector<std::vector<std::uint32_t>> far = {{100000}};
     CHECK(deform::DeformSession::create(model, roi, far, {}, s).code() == Errc::out_of_range);
     const std::vector<std::vector<std::uint32_t>> none;
@@ -209,17 +217,20 @@ TEST_CASE("deform: baking makes the edit the new rest pose") {
 
     deform::MeshModel baked;
     REQUIRE(deform::bake_positions(model, s->positions(), baked).is_ok());
-    CHECK(baked.mesh.positions == std::vector<glm::dvec3>(s->positions().begin(), s->positions().end()));
+    CHECK(baked.mesh.positions ==
+          std::vector<glm::dvec3>(s->positions().begin(), s->positions().end()));
     // A second edit with no motion keeps the baked shape: the detail is now
     // measured on it.
     std::unique_ptr<deform::DeformSession> second;
     REQUIRE(deform::DeformSession::create(baked, roi, groups, {}, second).is_ok());
     REQUIRE(second->solve(r).is_ok());
     for (std::size_t v = 0; v < baked.mesh.vertex_count(); ++v) {
-        CHECK(glm::length(second->positions()[v] - baked.mesh.positions[v]) < 1e-9 * baked.diagonal);
+        CHECK(glm::length(second->positions()[v] - baked.mesh.positions[v]) <
+              1e-9 * baked.diagonal);
     }
     std::vector<glm::dvec3> bad(s->positions().begin(), s->positions().end());
     bad[3].y = std::numeric_limits<double>::infinity();
     CHECK(deform::bake_positions(model, bad, baked).code() == Errc::invalid_argument);
-    CHECK(deform::bake_positions(model, std::span(bad).first(3), baked).code() == Errc::invalid_argument);
+    CHECK(deform::bake_positions(model, std::span(bad).first(3), baked).code() ==
+          Errc::invalid_argument);
 }

@@ -16,7 +16,8 @@ namespace {
 glm::dvec3 row_times_positions(const mesh::Mesh& m, const dual::DualLaplacian& d, std::uint32_t f) {
     const dual::DualRow row = dual::dual_row(m, d, f);
     glm::dvec3 sum(0.0);
-    for (std::uint32_t k = 0; k < row.size; ++k) sum += row.coefficients[k] * m.positions[row.vertices[k]];
+    for (std::uint32_t k = 0; k < row.size; ++k)
+        sum += row.coefficients[k] * m.positions[row.vertices[k]];
     return sum;
 }
 
@@ -46,7 +47,8 @@ TEST_CASE("dual: A V reproduces -h n, rows sum to zero, at most six vertices") {
         double sum = 0.0;
         for (std::uint32_t k = 0; k < row.size; ++k) sum += row.coefficients[k];
         CHECK(std::abs(sum) < 1e-14);
-        CHECK(d.weights[f].x + d.weights[f].y + d.weights[f].z == doctest::Approx(1.0).epsilon(1e-14));
+        CHECK(d.weights[f].x + d.weights[f].y + d.weights[f].z ==
+              doctest::Approx(1.0).epsilon(1e-14));
     }
 }
 
@@ -59,7 +61,8 @@ TEST_CASE("dual: weights and |h| are invariant under rigid motion; h scales with
     for (glm::dvec3& p : moved.positions) {
         p = scale * glm::dvec3(rot * glm::dvec4(p, 1.0)) + glm::dvec3(3, -1, 2);
     }
-    const dual::DualLaplacian e = dual::build_dual_laplacian(moved, mesh::build_edge_topology(moved));
+    const dual::DualLaplacian e =
+        dual::build_dual_laplacian(moved, mesh::build_edge_topology(moved));
     for (std::size_t f = 0; f < m.face_count(); ++f) {
         CHECK(glm::length(d.weights[f] - e.weights[f]) < 1e-9);
         CHECK(e.heights[f] == doctest::Approx(scale * d.heights[f]).epsilon(1e-9));
@@ -73,7 +76,8 @@ TEST_CASE("dual: an open grid has rows only where faces have three neighbours, n
     std::size_t rows = 0;
     for (std::size_t f = 0; f < m.face_count(); ++f) {
         const auto& n = d.neighbors[f];
-        const bool three = n[0] != mesh::no_index && n[1] != mesh::no_index && n[2] != mesh::no_index;
+        const bool three =
+            n[0] != mesh::no_index && n[1] != mesh::no_index && n[2] != mesh::no_index;
         CHECK(bool(d.has_row[f]) == three);
         rows += d.has_row[f];
         CHECK(std::isfinite(d.heights[f]));

@@ -97,7 +97,8 @@ TEST_CASE("limb: closed capped cylinder facing outward") {
     // Outward: the signed volume is positive.
     double volume = 0.0;
     for (const Triangle& t : m.triangles) {
-        volume += glm::dot(m.positions[t[0]], glm::cross(m.positions[t[1]], m.positions[t[2]])) / 6.0;
+        volume +=
+            glm::dot(m.positions[t[0]], glm::cross(m.positions[t[1]], m.positions[t[2]])) / 6.0;
     }
     CHECK(volume > 0.0);
 }

@@ -28,7 +28,8 @@ std::vector<Expectation> read_manifest(const std::filesystem::path& path) {
         if (line.empty()) continue;
         std::vector<std::string> cols;
         std::size_t start = 0;
-        for (std::size_t tab; (tab = line.find('\t', start)) != std::string::npos; start = tab + 1) {
+        for (std::size_t tab; (tab = line.find('\t', start)) != std::string::npos;
+             start = tab + 1) {
             cols.push_back(line.substr(start, tab - start));
         }
         cols.push_back(line.substr(start));

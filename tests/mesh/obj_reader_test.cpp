@@ -28,10 +28,10 @@ constexpr std::string_view square =
 }  // namespace
 
 TEST_CASE("OBJ: every corner form gives the same triangles") {
-    for (const char* faces : {"f 1 2 3\nf 1 3 4\n", "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n",
-                              "f 1//1 2//1 3//1\nf 1//1 3//1 4//1\n",
-                              "f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n",
-                              "f -4/-4/-1 -3/-3/-1 -2/-2/-1\nf -4 -2 -1\n"}) {
+    for (const char* faces :
+         {"f 1 2 3\nf 1 3 4\n", "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n",
+          "f 1//1 2//1 3//1\nf 1//1 3//1 4//1\n", "f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n",
+          "f -4/-4/-1 -3/-3/-1 -2/-2/-1\nf -4 -2 -1\n"}) {
         CAPTURE(faces);
         const Mesh m = parse_ok(std::string(square) + faces);
         REQUIRE(m.face_count() == 2);
@@ -75,6 +75,7 @@ TEST_CASE("OBJ: errors are located") {
     CHECK(parse_fail("v 0 0 inf\n").message() == "t.obj:1: vertex 0: 'inf' is not a finite number");
     CHECK(parse_fail("v 0 0 0\nv 1 0 0\nf 1 2\n").message() ==
           "t.obj:3: face 0: has 2 vertices; a face needs at least 3");
-    CHECK(parse_fail("hello world\n").message() == "t.obj:1: no vertex ('v') lines: not an OBJ mesh");
+    CHECK(parse_fail("hello world\n").message() ==
+          "t.obj:1: no vertex ('v') lines: not an OBJ mesh");
     CHECK(parse_fail("\n# nothing\n").code() == Errc::parse_error);
 }

@@ -41,20 +41,22 @@ TEST_CASE("OFF: counts on the keyword line") {
 }
 
 TEST_CASE("OFF: COFF colours, NOFF normals and face colours are skipped") {
-    const Mesh c = parse_ok("COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n"
-                            "3 0 1 2 0.5 0.5 0.5\n");
+    const Mesh c = parse_ok(
+        "COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n"
+        "3 0 1 2 0.5 0.5 0.5\n");
     CHECK(c.positions[2] == glm::dvec3(0, 1, 0));
     const Mesh n = parse_ok("NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n");
     CHECK(n.face_count() == 1);
-    const Mesh st = parse_ok("STCNOFF\n3 1 0\n0 0 0 0 0 1 1 1 1 0 0\n1 0 0 0 0 1 1 1 1 1 0\n"
-                             "0 1 0 0 0 1 1 1 1 0 1\n3 0 1 2\n");
+    const Mesh st = parse_ok(
+        "STCNOFF\n3 1 0\n0 0 0 0 0 1 1 1 1 0 0\n1 0 0 0 0 1 1 1 1 1 0\n"
+        "0 1 0 0 0 1 1 1 1 0 1\n3 0 1 2\n");
     CHECK(st.vertex_count() == 3);
 }
 
 TEST_CASE("OFF: polygons are fanned into triangles") {
     LoadReport report;
-    const Mesh m = parse_ok("OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 1.5 0\n4 0 1 2 3\n3 3 2 4\n",
-                            &report);
+    const Mesh m = parse_ok(
+        "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 1.5 0\n4 0 1 2 3\n3 3 2 4\n", &report);
     REQUIRE(m.face_count() == 3);
     CHECK(m.triangles[0] == Triangle{0, 1, 2});
     CHECK(m.triangles[1] == Triangle{0, 2, 3});
@@ -81,7 +83,8 @@ TEST_CASE("OFF: errors name the file, the line and the element") {
     CHECK(parse_fail("OFF\n3 1 0\n0 0 0\n1 x 0\n0 1 0\n3 0 1 2\n").message() ==
           "t.off:4: vertex 1: coordinate 'x' is not a number");
     CHECK(parse_fail("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n").message() ==
-          "t.off:6: face 0: vertex index 3 is out of range (the mesh has 3 vertices, indexed from 0)");
+          "t.off:6: face 0: vertex index 3 is out of range (the mesh has 3 vertices, indexed from "
+          "0)");
     CHECK(parse_fail("OFF\n3 1 0\n0 0 0\n1 0 nan\n0 1 0\n3 0 1 2\n").message() ==
           "t.off:4: vertex 1: coordinate 'nan' is not a finite number");
     CHECK(parse_fail("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n").message() ==
@@ -104,5 +107,6 @@ TEST_CASE("OFF: unsupported variants say so") {
     CHECK(parse_fail("4OFF\n1 0 0\n0 0 0 1\n").code() == Errc::unsupported);
     CHECK(parse_fail("OFF BINARY\n").code() == Errc::unsupported);
     CHECK(parse_fail("PFF\n3 1 0\n").code() == Errc::parse_error);
-    CHECK(parse_fail("# only a comment\n").message() == "t.off:1: no OFF header: the file is empty");
+    CHECK(parse_fail("# only a comment\n").message() ==
+          "t.off:1: no OFF header: the file is empty");
 }

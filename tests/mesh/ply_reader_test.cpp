@@ -117,7 +117,8 @@ TEST_CASE("PLY: header errors are located") {
                      "property float y\nproperty float z\nend_header\n0 0 0\n")
               .message()
               .find("t.ply:3: element 'vertex' declares 99999999999 records") == 0);
-    CHECK(parse_fail("ply\nformat binary_middle_endian 1.0\nend_header\n").code() == Errc::parse_error);
+    CHECK(parse_fail("ply\nformat binary_middle_endian 1.0\nend_header\n").code() ==
+          Errc::parse_error);
 }
 
 TEST_CASE("PLY: bad values in the body") {
@@ -125,7 +126,8 @@ TEST_CASE("PLY: bad values in the body") {
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
         "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
     CHECK(parse_fail(head + "0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n").message() ==
-          "t.ply:13: face 0: vertex index 5 is out of range (the mesh has 3 vertices, indexed from 0)");
+          "t.ply:13: face 0: vertex index 5 is out of range (the mesh has 3 vertices, indexed from "
+          "0)");
     CHECK(parse_fail(head + "0 0 0\n1 q 0\n0 1 0\n3 0 1 2\n").message() ==
           "t.ply:11: vertex 1 property 'y': 'q' is not a number");
     CHECK(parse_fail(head + "0 0 0\n1 0 0\n0 1 0\n200 0 1 2\n").code() == Errc::out_of_range);

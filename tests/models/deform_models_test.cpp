@@ -26,7 +26,8 @@ deform::MeshModel load_model(const std::string& name) {
     return deform::build_mesh_model(std::move(m));
 }
 
-std::vector<std::uint32_t> ball(const deform::MeshModel& model, std::uint32_t center, double radius) {
+std::vector<std::uint32_t> ball(const deform::MeshModel& model, std::uint32_t center,
+                                double radius) {
     std::vector<std::uint32_t> out;
     REQUIRE(roi::select_ball(model.mesh.positions, model.vertex_neighbors, center,
                              radius * model.diagonal, out)
@@ -72,7 +73,8 @@ TEST_CASE("cow: the dual Laplacian and one fixed vertex rebuild the mesh") {
     }
     const deform::SystemRows rows = deform::collect_rows(model, unknowns);
     double epsilon = 0.0;
-    solver::CsrMatrix n = deform::assemble_normal_matrix(rows, unknowns.count(), {}, 1.0, 0.0, epsilon);
+    solver::CsrMatrix n =
+        deform::assemble_normal_matrix(rows, unknowns.count(), {}, 1.0, 0.0, epsilon);
     CHECK(epsilon == 0.0);
     std::vector<double> rhs(3 * unknowns.count(), 0.0);
     for (std::size_t r = 0; r < rows.size(); ++r) {
@@ -94,13 +96,15 @@ TEST_CASE("cow: the dual Laplacian and one fixed vertex rebuild the mesh") {
     REQUIRE(solver.setup(std::move(n), deform::Preconditioner::cholesky).is_ok());
     std::vector<double> x(rhs.size(), 0.0);  // start far away: everything at the origin
     std::size_t iterations = 0;
-    REQUIRE(solver.solve(rhs, x, 1e-12 * model.diagonal, deform::LinearSolver::Accuracy::verified,
-                         iterations)
+    REQUIRE(solver
+                .solve(rhs, x, 1e-12 * model.diagonal, deform::LinearSolver::Accuracy::verified,
+                       iterations)
                 .is_ok());
     double worst = 0.0;
     for (std::size_t i = 0; i < unknowns.count(); ++i) {
         const glm::dvec3 p(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-        worst = std::max(worst, glm::length(p - model.mesh.positions[unknowns.vertex_of_unknown[i]]));
+        worst =
+            std::max(worst, glm::length(p - model.mesh.positions[unknowns.vertex_of_unknown[i]]));
     }
     CHECK(worst < 1e-8 * model.diagonal);
 }
@@ -148,7 +152,8 @@ TEST_CASE("cow: rotating both ends of the whole mesh by 45 degrees gives the rot
         if (model.mesh.positions[v].x < model.mesh.positions[lo].x) lo = v;
         if (model.mesh.positions[v].x > model.mesh.positions[hi].x) hi = v;
     }
-    const std::vector<std::vector<std::uint32_t>> groups = {ball(model, lo, 0.05), ball(model, hi, 0.05)};
+    const std::vector<std::vector<std::uint32_t>> groups = {ball(model, lo, 0.05),
+                                                            ball(model, hi, 0.05)};
     const glm::dmat4 rot =
         glm::rotate(glm::dmat4(1.0), glm::radians(45.0), glm::normalize(glm::dvec3(0.3, 1.0, 0.2)));
     auto rotated = [&](const glm::dvec3& p) { return glm::dvec3(rot * glm::dvec4(p, 1.0)); };
@@ -158,7 +163,8 @@ TEST_CASE("cow: rotating both ends of the whole mesh by 45 degrees gives the rot
     std::unique_ptr<deform::DeformSession> s;
     REQUIRE(deform::DeformSession::create(model, all_vertices(model), groups, settings, s).is_ok());
     std::vector<glm::dvec3> targets;
-    for (std::uint32_t v : s->handle_vertices()) targets.push_back(rotated(model.mesh.positions[v]));
+    for (std::uint32_t v : s->handle_vertices())
+        targets.push_back(rotated(model.mesh.positions[v]));
     REQUIRE(s->set_targets(targets).is_ok());
     deform::SolveReport r;
     REQUIRE(s->solve(r).is_ok());
@@ -178,23 +184,27 @@ TEST_CASE("cow with a hole cut in it: finite everywhere, handles met") {
     std::vector<std::uint8_t> cut(cow.mesh.vertex_count(), 0);
     for (std::uint32_t v : hole) cut[v] = 1;
     mesh::Mesh m = cow.mesh;
-    std::erase_if(m.triangles, [&](const mesh::Triangle& t) { return cut[t[0]] && cut[t[1]] && cut[t[2]]; });
+    std::erase_if(m.triangles,
+                  [&](const mesh::Triangle& t) { return cut[t[0]] && cut[t[1]] && cut[t[2]]; });
     REQUIRE(m.face_count() < cow.mesh.face_count());
     const deform::MeshModel model = deform::build_mesh_model(std::move(m));
     CHECK(model.dual.boundary_faces > 0);
     const std::vector<std::uint32_t> roi = ball(model, 1500, 0.3);
     std::uint32_t far = roi.front();
     for (std::uint32_t v : roi) {
-        if (!cut[v] && glm::length(model.mesh.positions[v] - model.mesh.positions[1500]) >
-                           glm::length(model.mesh.positions[far] - model.mesh.positions[1500]) &&
-            glm::length(model.mesh.positions[v] - model.mesh.positions[1500]) < 0.2 * model.diagonal) {
+        if (!cut[v] &&
+            glm::length(model.mesh.positions[v] - model.mesh.positions[1500]) >
+                glm::length(model.mesh.positions[far] - model.mesh.positions[1500]) &&
+            glm::length(model.mesh.positions[v] - model.mesh.positions[1500]) <
+                0.2 * model.diagonal) {
             far = v;
         }
     }
     const std::vector<std::vector<std::uint32_t>> groups = {{far}};
     std::unique_ptr<deform::DeformSession> s;
     REQUIRE(deform::DeformSession::create(model, roi, groups, {}, s).is_ok());
-    const glm::dvec3 target = model.mesh.positions[far] + glm::dvec3(0.0, 0.05, 0.0) * model.diagonal;
+    const glm::dvec3 target =
+        model.mesh.positions[far] + glm::dvec3(0.0, 0.05, 0.0) * model.diagonal;
     REQUIRE(s->set_targets(std::span(&target, 1)).is_ok());
     deform::SolveReport r;
     REQUIRE(s->solve(r).is_ok());

@@ -32,9 +32,9 @@ TEST_CASE("the paper's models load with their known counts") {
         std::size_t vertices;
         std::size_t faces;
     };
-    for (const Known k : {Known{"cow", 2904, 5804}, Known{"dino", 3916, 7828},
-                          Known{"camel", 9770, 19536}, Known{"triceratops", 2832, 5660},
-                          Known{"armadillo", 26002, 52000}}) {
+    for (const Known k :
+         {Known{"cow", 2904, 5804}, Known{"dino", 3916, 7828}, Known{"camel", 9770, 19536},
+          Known{"triceratops", 2832, 5660}, Known{"armadillo", 26002, 52000}}) {
         CAPTURE(k.name);
         const MeshSummary s = summarize(load_model(k.name));
         CHECK(s.vertices == k.vertices);

@@ -104,8 +104,8 @@ TEST_CASE("water_fill: more limbs of the paper's models") {
     check_limb(dino, {"dino", "dino-tail-lift", 3528, 2619, 272, 1, true, false});
 
     const deform::MeshModel triceratops = load_model("triceratops");
-    check_limb(triceratops, {"triceratops", "horn (triceratops-horn-rotate)", 2322, 2356, 46, 1,
-                             true, false});
+    check_limb(triceratops,
+               {"triceratops", "horn (triceratops-horn-rotate)", 2322, 2356, 46, 1, true, false});
     // 409: a brow horn's tip (largest x); 371: at the horn's base.
     check_limb(triceratops, {"triceratops", "horn", 409, 371, 32, 1, true, false});
 }

@@ -40,14 +40,16 @@ TEST_CASE("pick: camera image edges span the vertical field of view, y down") {
     const Ray bottom = pixel_ray(c, {320.0, 480.0});
     CHECK(top.direction.y > 0.0);
     CHECK(bottom.direction.y < 0.0);
-    const double degrees = std::acos(glm::dot(top.direction, bottom.direction)) * 180.0 / std::acos(-1.0);
+    const double degrees =
+        std::acos(glm::dot(top.direction, bottom.direction)) * 180.0 / std::acos(-1.0);
     CHECK(degrees == doctest::Approx(50.0));
     CHECK(pixel_ray(c, {640.0, 240.0}).direction.x > 0.0);  // x to the right
 }
 
 TEST_CASE("pick: camera project inverts pixel_ray") {
     const Camera c = test_camera();
-    for (const glm::dvec2 pixel : {glm::dvec2(0, 0), glm::dvec2(17.5, 401.25), glm::dvec2(640, 480)}) {
+    for (const glm::dvec2 pixel :
+         {glm::dvec2(0, 0), glm::dvec2(17.5, 401.25), glm::dvec2(640, 480)}) {
         const Ray r = pixel_ray(c, pixel);
         const auto back = project(c, r.origin + 3.7 * r.direction);
         REQUIRE(back.has_value());

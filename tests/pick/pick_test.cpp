@@ -181,7 +181,8 @@ TEST_CASE("pick: after a refit the same pixel hits the moved surface") {
     REQUIRE(after.has_value());
     CHECK(after->distance < before->distance - 0.3);
     const mesh::Triangle& t = sphere.triangles[after->face];
-    const glm::dvec3 on_new = after->w * moved[t[0]] + after->u * moved[t[1]] + after->v * moved[t[2]];
+    const glm::dvec3 on_new =
+        after->w * moved[t[0]] + after->u * moved[t[1]] + after->v * moved[t[2]];
     CHECK(glm::length(on_new - after->point) < 1e-12);
     sphere.positions = moved;
     const auto expected = brute_force_distance(sphere, pixel_ray(c, pixel));
@@ -208,7 +209,6 @@ TEST_CASE("pick: refit and create reject what Embree cannot trace") {
     CHECK(b.code() == Errc::out_of_range);
     CHECK(b.message().find("face 7") != std::string::npos);
     CHECK(bad.empty());
-    CHECK(EmbreeScene::create(nan_at_5, sphere.triangles, bad)
-              .message()
-              .find("vertex 5") != std::string::npos);
+    CHECK(EmbreeScene::create(nan_at_5, sphere.triangles, bad).message().find("vertex 5") !=
+          std::string::npos);
 }

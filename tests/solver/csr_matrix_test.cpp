@@ -8,7 +8,7 @@
 using namespace dfm::solver;
 
 TEST_CASE("solver: csr_from_triplets sums duplicates and sorts each row") {
-    std::vector<Triplet> triplets = {{1, 2, 1.0}, {0, 1, 2.0}, {1, 0, 3.0}, {1, 2, 4.0},
+    std::vector<Triplet> triplets = {{1, 2, 1.0},  {0, 1, 2.0}, {1, 0, 3.0}, {1, 2, 4.0},
                                      {0, 1, -2.0}, {2, 2, 5.0}, {1, 2, 0.5}};
     const CsrMatrix m = csr_from_triplets(3, 3, triplets);
     CHECK(m.rows == 3);

@@ -14,9 +14,8 @@ using namespace dfm::solver;
 
 namespace {
 
-constexpr OrderingMethod all_methods[] = {OrderingMethod::identity,
-                                          OrderingMethod::nested_dissection,
-                                          OrderingMethod::minimum_degree};
+constexpr OrderingMethod all_methods[] = {
+    OrderingMethod::identity, OrderingMethod::nested_dissection, OrderingMethod::minimum_degree};
 
 // Nonzeros of L for A under `perm`.
 std::size_t factor_nonzeros(const CsrMatrix& a, const std::vector<std::uint32_t>& perm) {

@@ -140,9 +140,9 @@ TEST_CASE("solver: a slightly wrong warm start is not converged until the error 
     for (std::size_t y = 0; y < side; ++y)
         for (std::size_t x = 0; x < side; ++x)
             for (std::size_t c = 0; c < 3; ++c)
-                start[(y * side + x) * 3 + c] +=
-                    offset * std::sin(3.14159 * (x + 1.0) / (side + 1.0)) *
-                    std::sin(3.14159 * (y + 1.0) / (side + 1.0));
+                start[(y * side + x) * 3 + c] += offset *
+                                                 std::sin(3.14159 * (x + 1.0) / (side + 1.0)) *
+                                                 std::sin(3.14159 * (y + 1.0) / (side + 1.0));
     REQUIRE(dfm::test::relative_residual(a, start, b, 3) < 1e-6);
     REQUIRE(max_error(start, exact) > 0.9 * offset);
 
@@ -175,8 +175,8 @@ TEST_CASE("solver: b = 0 converges to x = 0 without NaN") {
         CHECK(from_zero.x == zero);
         CHECK(from_zero.result.columns[0].relative_residual == 0.0);
 
-        const Outcome from_random = run(a, *m, zero, dfm::test::random_vector(zero.size(), 8), 3,
-                                        options);
+        const Outcome from_random =
+            run(a, *m, zero, dfm::test::random_vector(zero.size(), 8), 3, options);
         CHECK(from_random.result.converged);
         for (const double v : from_random.x) CHECK(std::isfinite(v));
         for (const PbcgColumnResult& column : from_random.result.columns)
@@ -198,8 +198,8 @@ TEST_CASE("solver: a breakdown is reported, never NaN") {
         REQUIRE(m.setup(a).is_ok());
         PbcgOptions options;
         options.symmetric = symmetric;
-        const std::vector<double> b = symmetric ? std::vector<double>{1.0, -1.0}
-                                                : std::vector<double>{1.0, 1.0};
+        const std::vector<double> b =
+            symmetric ? std::vector<double>{1.0, -1.0} : std::vector<double>{1.0, 1.0};
         const Outcome out = run(a, m, b, {0.0, 0.0}, 1, options);
         CHECK_FALSE(out.result.converged);
         CHECK(out.result.columns[0].breakdown);
@@ -316,8 +316,7 @@ TEST_CASE("solver: PBCG rejects bad arguments") {
     CHECK(pbcg_solve(a, m, std::span(b).first(20), x, 3, options, work, result).code() ==
           dfm::Errc::invalid_argument);
     PbcgWorkspace small(10, 2);
-    CHECK(pbcg_solve(a, m, b, x, 3, options, small, result).code() ==
-          dfm::Errc::invalid_argument);
+    CHECK(pbcg_solve(a, m, b, x, 3, options, small, result).code() == dfm::Errc::invalid_argument);
     options.symmetric = false;
     CHECK(pbcg_solve(a, m, b, x, 3, options, work, result).code() == dfm::Errc::invalid_argument);
     options.symmetric = true;

@@ -13,9 +13,8 @@ using namespace dfm::solver;
 
 namespace {
 
-constexpr OrderingMethod all_methods[] = {OrderingMethod::identity,
-                                          OrderingMethod::nested_dissection,
-                                          OrderingMethod::minimum_degree};
+constexpr OrderingMethod all_methods[] = {
+    OrderingMethod::identity, OrderingMethod::nested_dissection, OrderingMethod::minimum_degree};
 
 std::vector<double> cholesky_solve(const SparseCholesky& chol, const std::vector<double>& b,
                                    std::size_t k, ThreadPool* pool = nullptr) {

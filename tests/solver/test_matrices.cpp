@@ -22,7 +22,9 @@ double Random::uniform(double low, double high) {
     return low + (high - low) * static_cast<double>(next() >> 11) * 0x1.0p-53;
 }
 
-std::size_t Random::below(std::size_t n) { return static_cast<std::size_t>(next() % n); }
+std::size_t Random::below(std::size_t n) {
+    return static_cast<std::size_t>(next() % n);
+}
 
 namespace {
 

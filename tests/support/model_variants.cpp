@@ -52,10 +52,11 @@ std::vector<std::filesystem::path> write_model_variants(const mesh::Mesh& m,
         const char* name;
         mesh::WriteOptions options;
     };
-    for (const Saved& s : {Saved{"normals.obj", {.obj_normals = true}},
-                           Saved{"ascii.ply", {.ply_encoding = mesh::PlyEncoding::ascii}},
-                           Saved{"le.ply", {.ply_encoding = mesh::PlyEncoding::binary_little_endian}},
-                           Saved{"be.ply", {.ply_encoding = mesh::PlyEncoding::binary_big_endian}}}) {
+    for (const Saved& s :
+         {Saved{"normals.obj", {.obj_normals = true}},
+          Saved{"ascii.ply", {.ply_encoding = mesh::PlyEncoding::ascii}},
+          Saved{"le.ply", {.ply_encoding = mesh::PlyEncoding::binary_little_endian}},
+          Saved{"be.ply", {.ply_encoding = mesh::PlyEncoding::binary_big_endian}}}) {
         files.push_back(dir / s.name);
         const Status st = mesh::save_mesh(files.back(), m, s.options);
         if (!st) throw std::runtime_error(st.message());

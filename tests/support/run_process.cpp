@@ -12,7 +12,8 @@ namespace {
 
 void drain(int fd, std::string& into) {
     char buf[4096];
-    for (ssize_t n; (n = read(fd, buf, sizeof buf)) > 0;) into.append(buf, static_cast<std::size_t>(n));
+    for (ssize_t n; (n = read(fd, buf, sizeof buf)) > 0;)
+        into.append(buf, static_cast<std::size_t>(n));
 }
 
 }  // namespace
@@ -22,7 +23,8 @@ ProcessResult run_process(const std::string& program, const std::vector<std::str
     char err_path[] = "/tmp/dualform-test-err-XXXXXX";
     const int err_fd = mkstemp(err_path);
     int out_pipe[2];
-    if (err_fd < 0 || pipe(out_pipe) != 0) throw std::runtime_error("cannot set up a child process");
+    if (err_fd < 0 || pipe(out_pipe) != 0)
+        throw std::runtime_error("cannot set up a child process");
     const pid_t pid = fork();
     if (pid < 0) throw std::runtime_error("fork failed");
     if (pid == 0) {

@@ -6,7 +6,9 @@
 
 namespace dfm::test {
 
-std::filesystem::path data_dir() { return DUALFORM_TEST_DATA_DIR; }
+std::filesystem::path data_dir() {
+    return DUALFORM_TEST_DATA_DIR;
+}
 
 std::filesystem::path scratch_dir(std::string_view name) {
     const std::filesystem::path dir =

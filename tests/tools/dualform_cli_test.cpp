@@ -130,7 +130,9 @@ TEST_CASE("dualform help exits 0 and lists the commands") {
 
 namespace {
 
-std::filesystem::path scenarios_dir() { return dfm::test::data_dir().parent_path() / "scenarios"; }
+std::filesystem::path scenarios_dir() {
+    return dfm::test::data_dir().parent_path() / "scenarios";
+}
 
 }  // namespace
 
@@ -145,11 +147,11 @@ TEST_CASE("dualform deform: writes the mesh, the ROI and a report with every fie
     REQUIRE(r.exit_code == 0);
     const std::string json = dfm::test::read_text(report);
     CHECK(json == r.out);
-    for (const char* key : {"mesh", "n_vertices", "n_faces", "n_roi", "n_handles", "iterations",
-                            "converged", "setup_ms", "solve_ms", "ms_per_iteration",
-                            "krylov_iterations", "max_handle_error", "mean_abs_log_edge",
-                            "max_abs_log_edge", "mean_normal_change_deg", "max_fixed_move",
-                            "dual_magnitude_error"}) {
+    for (const char* key :
+         {"mesh", "n_vertices", "n_faces", "n_roi", "n_handles", "iterations", "converged",
+          "setup_ms", "solve_ms", "ms_per_iteration", "krylov_iterations", "max_handle_error",
+          "mean_abs_log_edge", "max_abs_log_edge", "mean_normal_change_deg", "max_fixed_move",
+          "dual_magnitude_error"}) {
         CAPTURE(key);
         CHECK(field(json, key) != "<missing>");
     }
@@ -182,7 +184,8 @@ TEST_CASE("dualform deform: a Water-Filling ROI deforms; bad input exits 2") {
     CHECK(r.exit_code == 2);
     CHECK(r.err.find("handles[0]: vertex 0 is outside the ROI") != std::string::npos);
 
-    dfm::test::write_text(dir / "typo.json", R"({"mesh": "model:cow", "roi": {"all": true}, "handels": []})");
+    dfm::test::write_text(dir / "typo.json",
+                          R"({"mesh": "model:cow", "roi": {"all": true}, "handels": []})");
     r = dualform({"deform", (dir / "typo.json").string(), "--out", out});
     CHECK(r.exit_code == 2);
     CHECK(r.err.find("handels") != std::string::npos);
@@ -198,8 +201,8 @@ TEST_CASE("dualform deform --strict: a capped, unconverged solve exits 1") {
                           R"({"mesh": "model:cow", "roi": {"ball": {"center": 901, "radius": 0.2}},
                               "handles": [{"ball": {"center": 901, "radius": 0.04}, "translate": [0.1, 0, 0]}],
                               "solver": {"max_iterations": 1, "tolerance": 1e-9}})");
-    const auto r = dualform({"deform", (dir / "capped.json").string(), "--out",
-                             (dir / "x.off").string(), "--strict"});
+    const auto r = dualform(
+        {"deform", (dir / "capped.json").string(), "--out", (dir / "x.off").string(), "--strict"});
     CHECK(r.exit_code == 1);
     CHECK(field(r.out, "converged") == "false");
     CHECK(r.err.find("did not converge") != std::string::npos);
@@ -251,8 +254,8 @@ TEST_CASE("dualform pick: a hit prints face, vertex, point, distance and barycen
     // The same camera from a file gives the same answer.
     const auto dir = dfm::test::scratch_dir("cli_pick");
     dfm::test::write_text(dir / "camera.json", cow_camera);
-    const auto f = dualform({"pick", "model:cow", "--camera", (dir / "camera.json").string(),
-                             "--pixel", "320,240"});
+    const auto f = dualform(
+        {"pick", "model:cow", "--camera", (dir / "camera.json").string(), "--pixel", "320,240"});
     CHECK(f.exit_code == 0);
     CHECK(f.out == r.out);
 
@@ -291,8 +294,9 @@ TEST_CASE("dualform roi: writes the Water-Filling ROI and its diagnosis") {
     CHECK(std::is_sorted(leg.begin(), leg.end()));
     CHECK(std::adjacent_find(leg.begin(), leg.end()) == leg.end());
 
-    dfm::test::write_text(dir / "tail.json",
-                          R"({"mesh": "model:cow", "roi": {"water_fill": {"first": 2334, "last": 1959}},
+    dfm::test::write_text(
+        dir / "tail.json",
+        R"({"mesh": "model:cow", "roi": {"water_fill": {"first": 2334, "last": 1959}},
                               "handles": [{"vertices": [2334]}]})");
     r = dualform({"roi", (dir / "tail.json").string(), "--out", (dir / "tail.txt").string()});
     CHECK(r.exit_code == 0);
@@ -305,8 +309,9 @@ TEST_CASE("dualform roi: writes the Water-Filling ROI and its diagnosis") {
     CHECK(field(r.out, "loops") == "<missing>");
     CHECK(field(r.out, "n_roi") == std::to_string(read_roi(dir / "ball.txt").size()));
 
-    dfm::test::write_text(dir / "far.json",
-                          R"({"mesh": "model:cow", "roi": {"water_fill": {"first": 771, "last": 9999}},
+    dfm::test::write_text(
+        dir / "far.json",
+        R"({"mesh": "model:cow", "roi": {"water_fill": {"first": 771, "last": 9999}},
                               "handles": [{"vertices": [771]}]})");
     r = dualform({"roi", (dir / "far.json").string(), "--out", (dir / "far.txt").string()});
     CHECK(r.exit_code == 2);
@@ -371,7 +376,8 @@ TEST_CASE("dualform roi: water_fill_clicks replays the water_fill ROI") {
     camera_json += ", \"target\": ";
     camera_json += vec(camera.target);
     camera_json += ", \"up\": [0, 1, 0], \"fov_y_degrees\": 40, \"width\": 640, \"height\": 480}";
-    std::string scenario = R"({"mesh": "model:cow", "handles": [{"vertices": [771]}], "roi": {"water_fill_clicks": {"camera": )";
+    std::string scenario =
+        R"({"mesh": "model:cow", "handles": [{"vertices": [771]}], "roi": {"water_fill_clicks": {"camera": )";
     scenario += camera_json;
     scenario += ", \"first\": ";
     scenario += pixel(*first);
@@ -381,7 +387,8 @@ TEST_CASE("dualform roi: water_fill_clicks replays the water_fill ROI") {
 
     const auto dir = dfm::test::scratch_dir("cli_roi_clicks");
     dfm::test::write_text(dir / "clicks.json", scenario);
-    auto r = dualform({"roi", (dir / "clicks.json").string(), "--out", (dir / "clicks.txt").string()});
+    auto r =
+        dualform({"roi", (dir / "clicks.json").string(), "--out", (dir / "clicks.txt").string()});
     CAPTURE(r.err);
     REQUIRE(r.exit_code == 0);
     const auto p = dualform({"roi", (scenarios_dir() / "cow-front-leg-step.json").string(), "--out",
@@ -398,5 +405,6 @@ TEST_CASE("dualform roi: water_fill_clicks replays the water_fill ROI") {
                               "width": 64, "height": 48}, "first": [32, 24], "last": [1, 1]}}})");
     r = dualform({"roi", (dir / "miss.json").string(), "--out", (dir / "miss.txt").string()});
     CHECK(r.exit_code == 2);
-    CHECK(r.err.find("roi.water_fill_clicks.first: the click at [32, 24] hits nothing") != std::string::npos);
+    CHECK(r.err.find("roi.water_fill_clicks.first: the click at [32, 24] hits nothing") !=
+          std::string::npos);
 }

@@ -15,7 +15,9 @@ using namespace dfm::cli;
 
 namespace {
 
-std::filesystem::path scenarios_dir() { return dfm::test::data_dir().parent_path() / "scenarios"; }
+std::filesystem::path scenarios_dir() {
+    return dfm::test::data_dir().parent_path() / "scenarios";
+}
 
 Scenario parse_ok(std::string_view text) {
     Scenario out;
@@ -75,7 +77,9 @@ std::string with(std::string_view roi, std::string_view handles, std::string_vie
 constexpr std::string_view any_roi = R"({"all": true})";
 constexpr std::string_view any_handles = R"([{"vertices": [7]}])";
 
-std::string with_roi(std::string_view roi) { return with(roi, any_handles); }
+std::string with_roi(std::string_view roi) {
+    return with(roi, any_handles);
+}
 std::string with_handle(std::string_view handle) {
     std::string handles = "[";
     handles += handle;
@@ -290,7 +294,8 @@ TEST_CASE("scenario: the top level and mesh") {
     check_error(R"({"mesh": "a\u0000b", "roi": {"all": true}, "handles": [{"vertices": [1]}]})",
                 R"("a\u)", "mesh: a mesh path cannot contain a NUL character");
     for (const char* bad : {"4", "-1", "1.5", "\"2\""}) {
-        const std::string text = with(any_roi, any_handles, std::string(R"(, "subdivide": )") + bad);
+        const std::string text =
+            with(any_roi, any_handles, std::string(R"(, "subdivide": )") + bad);
         const std::size_t column = text.find(R"("subdivide": )") + 14;
         check_message(text, "s.json:1:" + std::to_string(column) +
                                 ": subdivide: expected an integer from 0 to 3, found " +
@@ -300,7 +305,8 @@ TEST_CASE("scenario: the top level and mesh") {
 
 TEST_CASE("scenario: subdivide names Loop steps for scale scenarios") {
     Scenario out;
-    REQUIRE(parse_scenario(with(any_roi, any_handles, R"(, "subdivide": 2)"), "s.json", out).is_ok());
+    REQUIRE(
+        parse_scenario(with(any_roi, any_handles, R"(, "subdivide": 2)"), "s.json", out).is_ok());
     CHECK(out.subdivide == 2);
     REQUIRE(parse_scenario(with(any_roi, any_handles), "s.json", out).is_ok());
     CHECK(out.subdivide == 0);
@@ -402,10 +408,10 @@ TEST_CASE("scenario: camera and click errors") {
         with_camera_field("fov_y_degrees", "45, \"fov\": 45"), "\"fov\"",
         base + "fov: unknown field (expected eye, target, up, fov_y_degrees, width or height)");
 
-    const std::string no_height = with_roi(
-        R"({"water_fill_clicks": {"camera": {"eye": [0, 0, 5], "target": [0, 0, 0], )"
-        R"("up": [0, 1, 0], "fov_y_degrees": 45, "width": 640}, )"
-        R"("first": [1, 1], "last": [2, 2]}})");
+    const std::string no_height =
+        with_roi(R"({"water_fill_clicks": {"camera": {"eye": [0, 0, 5], "target": [0, 0, 0], )"
+                 R"("up": [0, 1, 0], "fov_y_degrees": 45, "width": 640}, )"
+                 R"("first": [1, 1], "last": [2, 2]}})");
     check_error(no_height, R"({"eye")", base + "height: required field is missing");
     const std::string no_camera =
         with_roi(R"({"water_fill_clicks": {"first": [1, 1], "last": [2, 2]}})");
@@ -620,14 +626,14 @@ TEST_CASE("scenario: load_scenario reads files and names them in errors") {
 }
 
 TEST_CASE("scenario: damaged scenarios give a located error or a scenario, never a crash") {
-    const std::string valid = with(
-        R"({"water_fill_clicks": {"camera": {"eye": [0, 0, 5], "target": [0, 0, 0], )"
-        R"("up": [0, 1, 0], "fov_y_degrees": 45, "width": 64, "height": 48}, )"
-        R"("first": [3, 4], "last": [5, 6]}})",
-        R"([{"vertices": [1, 2], "targets": [[0, 0, 0], [1, 1, 1]]}, )"
-        R"({"ball": {"center": 3, "radius": 0.5}, "translate": [0, 1, 0], )"
-        R"("rotate": {"axis": [0, 0, 1], "degrees": 30, "pivot": "centroid"}}])",
-        R"(, "solver": {"tolerance": 1e-5, "max_iterations": 50, "handle_weight": 1.0})");
+    const std::string valid =
+        with(R"({"water_fill_clicks": {"camera": {"eye": [0, 0, 5], "target": [0, 0, 0], )"
+             R"("up": [0, 1, 0], "fov_y_degrees": 45, "width": 64, "height": 48}, )"
+             R"("first": [3, 4], "last": [5, 6]}})",
+             R"([{"vertices": [1, 2], "targets": [[0, 0, 0], [1, 1, 1]]}, )"
+             R"({"ball": {"center": 3, "radius": 0.5}, "translate": [0, 1, 0], )"
+             R"("rotate": {"axis": [0, 0, 1], "degrees": 30, "pivot": "centroid"}}])",
+             R"(, "solver": {"tolerance": 1e-5, "max_iterations": 50, "handle_weight": 1.0})");
     parse_ok(valid);
     std::mt19937 rng(7u);
     const std::string_view pieces[] = {"0",    "-1",   "1.5",       "\"x\"",      "[]",    "{}",

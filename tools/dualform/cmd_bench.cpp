@@ -78,20 +78,22 @@ Status bench_scenario(const std::string& path, int repeat, std::optional<deform:
     deform::MeshModel model;
     if (Status s = load_scenario_model(scenario, model); !s) return s;
     EditSetup edit;
-    if (Status s = resolve_edit(scenario, model, edit); !s) return Status(s.code(), path + ": " + s.message());
+    if (Status s = resolve_edit(scenario, model, edit); !s)
+        return Status(s.code(), path + ": " + s.message());
     if (pc) edit.settings.preconditioner = *pc;
 
     std::vector<double> setup, solve, per_iteration;
     Run run;
     for (int r = 0; r < repeat; ++r) {
-        if (Status s = run_once(model, edit, run); !s) return Status(s.code(), path + ": " + s.message());
+        if (Status s = run_once(model, edit, run); !s)
+            return Status(s.code(), path + ": " + s.message());
         setup.push_back(run.setup_ms);
         solve.push_back(run.solve.solve_ms);
         per_iteration.push_back(run.solve.solve_ms / std::max(1, run.solve.iterations));
     }
-    const deform::QualityReport quality = deform::measure_quality(
-        model, run.session->positions(), edit.in_roi, run.session->handle_vertices(),
-        run.session->targets());
+    const deform::QualityReport quality =
+        deform::measure_quality(model, run.session->positions(), edit.in_roi,
+                                run.session->handle_vertices(), run.session->targets());
 
     const deform::SetupReport setup_report = run.session->setup_report();
     const deform::SolveReport solved = run.solve;
@@ -100,7 +102,8 @@ Status bench_scenario(const std::string& path, int repeat, std::optional<deform:
     // The drag: a fresh session, targets moved from rest to the scenario's
     // in equal steps, each frame warm-started from the last.
     std::unique_ptr<deform::DeformSession> drag;
-    if (Status s = deform::DeformSession::create(model, edit.roi, edit.handle_groups, edit.settings, drag);
+    if (Status s =
+            deform::DeformSession::create(model, edit.roi, edit.handle_groups, edit.settings, drag);
         !s) {
         return s;
     }
@@ -111,7 +114,8 @@ Status bench_scenario(const std::string& path, int repeat, std::optional<deform:
     int unconverged = 0;
     for (int f = 1; f <= drag_frames; ++f) {
         const double t = static_cast<double>(f) / drag_frames;
-        for (std::size_t h = 0; h < start.size(); ++h) frame_targets[h] = start[h] + t * (edit.targets[h] - start[h]);
+        for (std::size_t h = 0; h < start.size(); ++h)
+            frame_targets[h] = start[h] + t * (edit.targets[h] - start[h]);
         if (Status s = drag->set_targets(frame_targets); !s) return s;
         deform::SolveReport frame;
         if (Status s = drag->solve(frame); !s) return s;
@@ -172,7 +176,8 @@ int run_bench(std::span<const std::string_view> args) {
         } else if (a == "--preconditioner") {
             deform::Preconditioner p;
             if (i + 1 >= args.size() || !parse_preconditioner(args[++i], p)) {
-                return bad_input("--preconditioner: expected cholesky, incomplete_cholesky or jacobi");
+                return bad_input(
+                    "--preconditioner: expected cholesky, incomplete_cholesky or jacobi");
             }
             pc = p;
         } else if (a.starts_with("--")) {

@@ -59,7 +59,8 @@ int run_deform(std::span<const std::string_view> args) {
             std::string name;
             deform::Preconditioner p;
             if (!value(name) || !parse_preconditioner(name, p)) {
-                return bad_input("--preconditioner: expected cholesky, incomplete_cholesky or jacobi");
+                return bad_input(
+                    "--preconditioner: expected cholesky, incomplete_cholesky or jacobi");
             }
             preconditioner = p;
         } else if (a.starts_with("--") || !scenario_path.empty()) {
@@ -123,7 +124,8 @@ int run_deform(std::span<const std::string_view> args) {
     json.key("last_update").value(solved.last_update);
     json.key("setup_ms").value(setup_ms);
     json.key("solve_ms").value(solved.solve_ms);
-    json.key("ms_per_iteration").value(solved.iterations > 0 ? solved.solve_ms / solved.iterations : 0.0);
+    json.key("ms_per_iteration")
+        .value(solved.iterations > 0 ? solved.solve_ms / solved.iterations : 0.0);
     json.key("krylov_iterations").value(std::uint64_t{solved.krylov_iterations});
     json.key("linear_residual").value(solved.linear_residual);
     json.key("linear_converged").value(solved.linear_converged);
@@ -136,7 +138,8 @@ int run_deform(std::span<const std::string_view> args) {
         if (Status s = write_text_file(report_path, json.str()); !s) return bad_input(s.message());
     }
     if (strict && !solved.converged) {
-        std::fprintf(stderr, "error: did not converge in %d iterations (last update %g of the diagonal)\n",
+        std::fprintf(stderr,
+                     "error: did not converge in %d iterations (last update %g of the diagonal)\n",
                      solved.iterations, solved.last_update);
         return exit_failed;
     }

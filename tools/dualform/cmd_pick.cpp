@@ -1,6 +1,6 @@
 #include <algorithm>
-#include <chrono>
 #include <charconv>
+#include <chrono>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -69,10 +69,14 @@ int bench(const pick::EmbreeScene& scene, const pick::Camera& camera, glm::dvec2
     std::sort(us.begin(), us.end());
     JsonWriter j;
     j.begin_object()
-        .key("rays").value(std::uint64_t{rays})
-        .key("hits").value(std::uint64_t{hits})
-        .key("median_us").value(us[rays / 2])
-        .key("p90_us").value(us[rays * 9 / 10])
+        .key("rays")
+        .value(std::uint64_t{rays})
+        .key("hits")
+        .value(std::uint64_t{hits})
+        .key("median_us")
+        .value(us[rays / 2])
+        .key("p90_us")
+        .value(us[rays * 9 / 10])
         .end_object();
     std::printf("%s\n", j.str().c_str());
     return exit_ok;

@@ -171,8 +171,8 @@ Status resolve_edit(const Scenario& scenario, const deform::MeshModel& model, Ed
         }
         for (std::uint32_t v : group) {
             if (!out.in_roi[v]) {
-                return Status(Errc::invalid_argument, what + ": vertex " + std::to_string(v) +
-                                                          " is outside the ROI");
+                return Status(Errc::invalid_argument,
+                              what + ": vertex " + std::to_string(v) + " is outside the ROI");
             }
         }
         if (Status s = group_targets(spec, group, model, what, out.targets); !s) return s;

@@ -122,8 +122,8 @@ public:
 
     Status scenario(const JsonValue& root, Scenario& out) const {
         const Field top{&root, root.at, ""};
-        if (Status s = object(top, {"mesh", "subdivide", "roi", "handles", "solver",
-                                    "description", "comment"});
+        if (Status s = object(
+                top, {"mesh", "subdivide", "roi", "handles", "solver", "description", "comment"});
             !s) {
             return s;
         }

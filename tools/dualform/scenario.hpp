@@ -41,7 +41,7 @@ struct RoiSpec {
     ScenarioCamera camera;  // water_fill_clicks
     glm::dvec2 first_pixel{0.0};
     glm::dvec2 last_pixel{0.0};
-    BallSelection ball;                  // ball
+    BallSelection ball;                   // ball
     std::vector<std::uint32_t> vertices;  // vertices
 };
 
@@ -69,12 +69,12 @@ struct SolverSpec {
 };
 
 struct Scenario {
-    std::string mesh;                 // as written: a path or model:NAME
+    std::string mesh;  // as written: a path or model:NAME
     // Loop subdivision steps applied to the mesh after loading (0 to 3): the
     // way scale scenarios make bigger meshes from the real ones. Coarse
     // vertex indices keep their meaning.
     int subdivide = 0;
-    std::filesystem::path base_dir;   // the scenario file's folder, for relative paths
+    std::filesystem::path base_dir;  // the scenario file's folder, for relative paths
     RoiSpec roi;
     std::vector<HandleSpec> handles;
     SolverSpec solver;

@@ -21,7 +21,7 @@ struct FactorMeasure {
     double ordering_ms = 0.0;
     double symbolic_ms = 0.0;
     double numeric_ms = 0.0;
-    double setup_ms = 0.0;     // the four above, summed per run
+    double setup_ms = 0.0;  // the four above, summed per run
     double setup_min_ms = 0.0;
     double solve_k3_ms = 0.0;  // one forward and back solve for x, y and z
     double solve_k3_min_ms = 0.0;
