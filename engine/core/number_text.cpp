@@ -22,4 +22,12 @@ void append_number(std::string& out, float value) {
     append_shortest(out, value);
 }
 
+void append_numbers(std::string& out, const glm::dvec3& v) {
+    append_number(out, v.x);
+    out += ' ';
+    append_number(out, v.y);
+    out += ' ';
+    append_number(out, v.z);
+}
+
 }  // namespace dfm

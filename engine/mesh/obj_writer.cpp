@@ -8,10 +8,8 @@ namespace {
 
 void append_vector(std::string& out, const char* keyword, const glm::dvec3& v) {
     out += keyword;
-    for (int c = 0; c < 3; ++c) {
-        out += ' ';
-        append_number(out, v[c]);
-    }
+    out += ' ';
+    append_numbers(out, v);
     out += '\n';
 }
 

@@ -7,11 +7,7 @@ void write_off(const Mesh& mesh, std::string& out) {
     out = "OFF\n" + std::to_string(mesh.vertex_count()) + ' ' + std::to_string(mesh.face_count()) +
           " 0\n";
     for (const glm::dvec3& p : mesh.positions) {
-        append_number(out, p.x);
-        out += ' ';
-        append_number(out, p.y);
-        out += ' ';
-        append_number(out, p.z);
+        append_numbers(out, p);
         out += '\n';
     }
     for (const Triangle& t : mesh.triangles) {

@@ -17,11 +17,7 @@ std::string obj_text(const mesh::Mesh& m, bool negative) {
     std::string out = "# cow with texture coordinates and normals\ng body\n";
     for (const glm::dvec3& p : m.positions) {
         out += "v ";
-        append_number(out, p.x);
-        out += ' ';
-        append_number(out, p.y);
-        out += ' ';
-        append_number(out, p.z);
+        append_numbers(out, p);
         out += "\nvt ";
         append_number(out, p.x);
         out += ' ';
