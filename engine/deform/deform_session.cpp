@@ -110,7 +110,8 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
             assemble_normal_matrix(s->rows_, u.count(), s->soft_handles_, settings.handle_weight,
                                    settings.regularization, s->epsilon_);
         const std::size_t normal_nonzeros = normal.nonzeros();
-        if (Status st = s->linear_.setup(std::move(normal), settings.preconditioner); !st) {
+        if (Status st = s->linear_.setup(std::move(normal), settings.preconditioner, settings.pool);
+            !st) {
             return st;
         }
 
@@ -227,7 +228,17 @@ void DeformSession::store_solution() {
     }
 }
 
-Status DeformSession::solve(SolveReport& report) {
+Status DeformSession::set_stopping_rule(double tolerance, int max_iterations) {
+    if (!(tolerance > 0.0) || !std::isfinite(tolerance) || max_iterations < 1) {
+        return Status(Errc::invalid_argument,
+                      "the tolerance must be positive and finite, the iteration cap at least 1");
+    }
+    settings_.tolerance = tolerance;
+    settings_.max_iterations = max_iterations;
+    return Status::ok();
+}
+
+Status DeformSession::solve(SolveReport& report, const std::atomic<bool>* interrupt) {
     report = SolveReport{};
     const auto start = std::chrono::steady_clock::now();
     const double diag = model_.diagonal > 0.0 ? model_.diagonal : 1.0;
@@ -239,6 +250,11 @@ Status DeformSession::solve(SolveReport& report) {
     anderson_.restart();
     double smallest_update = std::numeric_limits<double>::infinity();
     for (int it = 0; it < settings_.max_iterations; ++it) {
+        if (it > 0 && interrupt != nullptr && interrupt->load(std::memory_order_acquire)) {
+            report.interrupted = true;
+            report.solve_ms = elapsed_ms(start);
+            return Status::ok();
+        }
         compute_dual_targets();
         compute_right_hand_side();
         std::size_t krylov = 0;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -30,6 +31,9 @@ struct DeformSettings {
     // Steps of history for Anderson acceleration of the outer iteration;
     // 0 runs the plain iteration.
     int anderson_memory = 8;
+    // Threads for the factor and its solves (not owned; must outlive the
+    // session). Null: the calling thread alone. Results do not depend on it.
+    solver::ThreadPool* pool = nullptr;
 };
 
 struct SolveReport {
@@ -43,6 +47,9 @@ struct SolveReport {
     double linear_residual = 0.0;
     bool linear_converged = false;
     double solve_ms = 0.0;
+    // Stopped early by the interrupt flag: positions hold the last iterate,
+    // neither converged nor verified.
+    bool interrupted = false;
 };
 
 struct SetupReport {
@@ -74,8 +81,14 @@ public:
     // covers the whole mesh; non-finite entries are refused.
     Status set_positions(std::span<const glm::dvec3> positions);
 
-    // Runs the two-step iteration from the current positions.
-    Status solve(SolveReport& report);
+    // Changes DeformSettings::tolerance and max_iterations for later solves.
+    Status set_stopping_rule(double tolerance, int max_iterations);
+
+    // Runs the two-step iteration from the current positions. When `interrupt`
+    // is given and becomes true, the solve stops after the iteration in
+    // progress (an asynchronous host's newer targets or cancel); the first
+    // iteration always runs, so every solve makes progress.
+    Status solve(SolveReport& report, const std::atomic<bool>* interrupt = nullptr);
 
     std::span<const glm::dvec3> positions() const { return positions_; }
     std::span<const std::uint32_t> handle_vertices() const { return handle_vertices_; }

@@ -47,10 +47,11 @@ LinearSolver::~LinearSolver() = default;
 LinearSolver::LinearSolver(LinearSolver&&) noexcept = default;
 LinearSolver& LinearSolver::operator=(LinearSolver&&) noexcept = default;
 
-Status LinearSolver::setup(solver::CsrMatrix matrix, Preconditioner preconditioner) {
+Status LinearSolver::setup(solver::CsrMatrix matrix, Preconditioner preconditioner,
+                           solver::ThreadPool* pool) {
     auto state = std::make_unique<State>();
     state->matrix = std::move(matrix);
-    state->preconditioner = solver::make_preconditioner(kind_of(preconditioner));
+    state->preconditioner = solver::make_preconditioner(kind_of(preconditioner), pool);
     if (Status s = state->preconditioner->setup(state->matrix); !s) return s;
     state->preconditioner->reserve(3);
     state->workspace = solver::PbcgWorkspace(state->matrix.rows, 3);

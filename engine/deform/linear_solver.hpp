@@ -6,6 +6,7 @@
 
 #include "core/status.hpp"
 #include "solver/csr_matrix.hpp"
+#include "solver/thread_pool.hpp"
 
 namespace dfm::deform {
 
@@ -23,7 +24,10 @@ public:
     LinearSolver(LinearSolver&&) noexcept;
     LinearSolver& operator=(LinearSolver&&) noexcept;
 
-    Status setup(solver::CsrMatrix matrix, Preconditioner preconditioner);
+    // `pool` (optional, not owned, outliving the solver) spreads the factor's
+    // work; results are bit-identical whatever its thread count.
+    Status setup(solver::CsrMatrix matrix, Preconditioner preconditioner,
+                 solver::ThreadPool* pool = nullptr);
 
     enum class Accuracy {
         // Inside the outer iteration: with the complete factor, one step

@@ -1,0 +1,217 @@
+#include "deform/async_session.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <new>
+#include <string>
+
+namespace dfm::deform {
+
+std::uint64_t frame_checksum(std::span<const glm::dvec3> positions) {
+    std::uint64_t hash = 14695981039346656037ull;
+    const auto* bytes = reinterpret_cast<const unsigned char*>(positions.data());
+    for (std::size_t i = 0; i < positions.size_bytes(); ++i) {
+        hash = (hash ^ bytes[i]) * 1099511628211ull;
+    }
+    return hash;
+}
+
+AsyncSession::AsyncSession(std::unique_ptr<DeformSession> session)
+    : session_(std::move(session)), model_(session_->model()) {}
+
+Status AsyncSession::create(std::unique_ptr<DeformSession> session,
+                            std::span<const std::uint32_t> roi,
+                            std::unique_ptr<AsyncSession>& out) {
+    out.reset();
+    if (!session) return Status(Errc::invalid_argument, "no deformation session given");
+    try {
+        std::unique_ptr<AsyncSession> s(new AsyncSession(std::move(session)));
+        s->handle_vertices_.assign(s->session_->handle_vertices().begin(),
+                                   s->session_->handle_vertices().end());
+        s->moving_.assign(roi.begin(), roi.end());
+        std::sort(s->moving_.begin(), s->moving_.end());
+        s->moving_.erase(std::unique(s->moving_.begin(), s->moving_.end()), s->moving_.end());
+        s->normals_.build(s->model_, s->moving_);
+        for (Frame& frame : s->frames_) {
+            frame.positions.resize(s->moving_.size());
+            frame.normals.resize(s->normals_.vertices().size());
+        }
+        s->queued_targets_.resize(s->handle_vertices_.size());
+        s->worker_targets_.resize(s->handle_vertices_.size());
+        s->publish(0, SolveReport{.converged = true}, Errc::ok);
+        s->worker_ = std::thread([raw = s.get()] { raw->run_worker(); });
+        out = std::move(s);
+        return Status::ok();
+    } catch (const std::bad_alloc&) {
+        return Status(Errc::out_of_memory, "out of memory while starting the session's worker");
+    } catch (const std::system_error& e) {
+        return Status(Errc::out_of_memory,
+                      std::string("could not start the session's worker thread: ") + e.what());
+    }
+}
+
+AsyncSession::~AsyncSession() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stopping_ = true;
+        has_queued_ = false;
+        cancelled_through_ = next_generation_ - 1;
+        interrupt_.store(true, std::memory_order_release);
+    }
+    work_ready_.notify_all();
+    if (worker_.joinable()) worker_.join();
+}
+
+Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
+    generation = 0;
+    if (targets.size() != handle_vertices_.size()) {
+        return Status(Errc::invalid_argument,
+                      "expected " + std::to_string(handle_vertices_.size()) + " targets, got " +
+                          std::to_string(targets.size()));
+    }
+    for (std::size_t h = 0; h < targets.size(); ++h) {
+        if (!std::isfinite(targets[h].x) || !std::isfinite(targets[h].y) ||
+            !std::isfinite(targets[h].z)) {
+            return Status(Errc::numerical, "target " + std::to_string(h) + " (vertex " +
+                                               std::to_string(handle_vertices_[h]) +
+                                               ") is not finite; nothing was queued");
+        }
+    }
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        std::copy(targets.begin(), targets.end(), queued_targets_.begin());
+        has_queued_ = true;
+        queued_generation_ = next_generation_++;
+        generation = queued_generation_;
+        if (solving_) interrupt_.store(true, std::memory_order_release);
+    }
+    work_ready_.notify_one();
+    return Status::ok();
+}
+
+void AsyncSession::cancel() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        has_queued_ = false;
+        cancelled_through_ = next_generation_ - 1;
+        interrupt_.store(true, std::memory_order_release);
+    }
+    frame_ready_.notify_all();
+    // The worker holds solve_mutex_ for the whole of a solve.
+    std::lock_guard<std::mutex> idle(solve_mutex_);
+}
+
+Status AsyncSession::solve_now(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
+    generation = 0;
+    if (targets.size() != handle_vertices_.size()) {
+        return Status(Errc::invalid_argument,
+                      "expected " + std::to_string(handle_vertices_.size()) + " targets, got " +
+                          std::to_string(targets.size()));
+    }
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        has_queued_ = false;
+        generation = next_generation_++;
+        interrupt_.store(true, std::memory_order_release);
+    }
+    return solve_and_publish(targets, generation, nullptr);
+}
+
+AsyncSession::WaitResult AsyncSession::wait(std::uint64_t generation,
+                                            std::chrono::nanoseconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const auto done = [&] {
+        return newest_finished_ >= generation || generation <= cancelled_through_;
+    };
+    // wait_for adds the timeout to now(), which overflows for "forever".
+    if (timeout == std::chrono::nanoseconds::max()) {
+        frame_ready_.wait(lock, done);
+    } else {
+        frame_ready_.wait_for(lock, timeout, done);
+    }
+    if (newest_finished_ >= generation) return WaitResult::ready;
+    return generation <= cancelled_through_ ? WaitResult::cancelled : WaitResult::timed_out;
+}
+
+Status AsyncSession::set_stopping_rule(double tolerance, int max_iterations) {
+    std::lock_guard<std::mutex> solving(solve_mutex_);
+    return session_->set_stopping_rule(tolerance, max_iterations);
+}
+
+std::uint64_t AsyncSession::newest_generation() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return newest_generation_;
+}
+
+std::uint64_t AsyncSession::submitted_generation() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return next_generation_ - 1;
+}
+
+void AsyncSession::run_worker() {
+    for (;;) {
+        std::uint64_t generation = 0;
+        {
+            std::unique_lock<std::mutex> lock(mutex_);
+            work_ready_.wait(lock, [&] { return stopping_ || has_queued_; });
+            if (stopping_) return;
+            std::swap(queued_targets_, worker_targets_);
+            generation = queued_generation_;
+            has_queued_ = false;
+            solving_ = true;
+            interrupt_.store(false, std::memory_order_release);
+        }
+        // The targets were checked when they were queued; a breakdown is
+        // published as the frame's status.
+        static_cast<void>(solve_and_publish(worker_targets_, generation, &interrupt_));
+        std::lock_guard<std::mutex> lock(mutex_);
+        solving_ = false;
+    }
+}
+
+Status AsyncSession::solve_and_publish(std::span<const glm::dvec3> targets,
+                                       std::uint64_t generation,
+                                       const std::atomic<bool>* interrupt) {
+    std::lock_guard<std::mutex> solving(solve_mutex_);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (generation <= last_solved_ || generation <= cancelled_through_) return Status::ok();
+    }
+    last_solved_ = generation;
+    if (Status s = session_->set_targets(targets); !s) return s;
+    SolveReport report;
+    const Status solved = session_->solve(report, interrupt);
+    if (report.interrupted) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        // Cancel and destroy discard the iterate; a newer submit shows it.
+        if (stopping_ || generation <= cancelled_through_) return Status::ok();
+    }
+    publish(generation, report, solved.code());
+    return solved;
+}
+
+void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, Errc status) {
+    int slot = 0;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        while (slot == front_ || slot == reading_) ++slot;
+    }
+    Frame& frame = frames_[slot];
+    const std::span<const glm::dvec3> positions = session_->positions();
+    for (std::size_t i = 0; i < moving_.size(); ++i) frame.positions[i] = positions[moving_[i]];
+    normals_.compute(positions, frame.normals);
+    frame.generation = generation;
+    frame.report = report;
+    frame.status = status;
+    frame.checksum = frame_checksum(frame.positions);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        front_ = slot;
+        newest_generation_ = generation;
+        if (!report.interrupted) newest_finished_ = generation;
+    }
+    frame_ready_.notify_all();
+}
+
+}  // namespace dfm::deform

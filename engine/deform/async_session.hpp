@@ -1,0 +1,148 @@
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <thread>
+#include <vector>
+
+#include "core/status.hpp"
+#include "deform/deform_session.hpp"
+#include "deform/region_normals.hpp"
+
+namespace dfm::deform {
+
+// One published result of an asynchronous session.
+struct Frame {
+    // The targets' generation it was solved for; 0 is the start state.
+    std::uint64_t generation = 0;
+    SolveReport report;
+    // numerical: the solve broke down and `positions` are the last good ones.
+    Errc status = Errc::ok;
+    // FNV-1a over the bytes of `positions`, computed as the frame was
+    // written: a reader that recomputes it knows the frame is whole.
+    std::uint64_t checksum = 0;
+    std::vector<glm::dvec3> positions;  // one per AsyncSession::moving() vertex
+    std::vector<glm::dvec3> normals;    // one per AsyncSession::normal_vertices() vertex
+};
+
+std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
+
+// A DeformSession behind a worker thread (DESIGN.md, "Asynchronous engine").
+// The host submits targets without blocking; latest wins: queued targets that
+// a newer submit replaces are never solved, and a running solve stops after
+// its current iteration and publishes that iterate as an interrupted frame,
+// so a host that moves handles faster than the solve still sees the shape
+// follow. Frames are triple-buffered: the worker writes one slot while a
+// reader copies another, and neither waits for the other beyond swapping two
+// indices. Each frame is complete; none is ever torn.
+class AsyncSession {
+public:
+    // `roi` is the region the session was created with (ascending); frames
+    // carry the positions of all its vertices.
+    static Status create(std::unique_ptr<DeformSession> session, std::span<const std::uint32_t> roi,
+                         std::unique_ptr<AsyncSession>& out);
+    // Stops the worker after the iteration in progress and joins it.
+    ~AsyncSession();
+    AsyncSession(const AsyncSession&) = delete;
+    AsyncSession& operator=(const AsyncSession&) = delete;
+
+    // Queues `targets` (one per handle vertex) for the worker and returns
+    // their generation. Never waits for a solve. Non-finite targets or a
+    // wrong count are refused and nothing is queued.
+    Status submit(std::span<const glm::dvec3> targets, std::uint64_t& generation);
+
+    // Drops queued targets and stops the running solve after its current
+    // iteration; returns once the worker is idle. Frames already published
+    // stay; the session keeps the stopped iterate as its next starting point.
+    void cancel();
+
+    // Solves `targets` on the calling thread, after stopping the worker's
+    // solve, and publishes the frame as the worker would: the same
+    // arithmetic, so the result is bit for bit what the worker computes from
+    // the same state.
+    Status solve_now(std::span<const glm::dvec3> targets, std::uint64_t& generation);
+
+    enum class WaitResult { ready, cancelled, timed_out };
+    // Waits until a finished (not interrupted) frame of generation >=
+    // `generation` is published (ready), that generation is cancelled, or
+    // `timeout` passes; nanoseconds::max() waits without limit.
+    WaitResult wait(std::uint64_t generation, std::chrono::nanoseconds timeout);
+
+    // Changes when later solves stop; waits for a running solve to end.
+    Status set_stopping_rule(double tolerance, int max_iterations);
+
+    std::uint64_t newest_generation() const;
+    std::uint64_t submitted_generation() const;
+
+    // Calls `reader(const Frame&)` with the newest frame. Concurrent readers
+    // take turns; the worker never waits for them.
+    template <class Reader>
+    void read(Reader&& reader) {
+        std::lock_guard<std::mutex> read_lock(read_mutex_);
+        int slot = 0;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            slot = front_;
+            reading_ = slot;
+        }
+        reader(static_cast<const Frame&>(frames_[slot]));
+        std::lock_guard<std::mutex> lock(mutex_);
+        reading_ = -1;
+    }
+
+    // The ROI, ascending (every vertex that may move is in it);
+    // Frame::positions follows it.
+    std::span<const std::uint32_t> moving() const { return moving_; }
+    // Vertices whose normals change with the region; Frame::normals follows it.
+    std::span<const std::uint32_t> normal_vertices() const { return normals_.vertices(); }
+    std::span<const std::uint32_t> handle_vertices() const { return handle_vertices_; }
+    const MeshModel& model() const { return model_; }
+
+private:
+    explicit AsyncSession(std::unique_ptr<DeformSession> session);
+    void run_worker();
+    // Solves for `targets` under solve_mutex_ and publishes the frame.
+    Status solve_and_publish(std::span<const glm::dvec3> targets, std::uint64_t generation,
+                             const std::atomic<bool>* interrupt);
+    void publish(std::uint64_t generation, const SolveReport& report, Errc status);
+
+    std::unique_ptr<DeformSession> session_;
+    const MeshModel& model_;
+    std::vector<std::uint32_t> moving_;
+    std::vector<std::uint32_t> handle_vertices_;
+    RegionNormals normals_;
+
+    // Guards the queue, the generations and the slot indices; held briefly.
+    mutable std::mutex mutex_;
+    std::condition_variable work_ready_;
+    std::condition_variable frame_ready_;
+    std::vector<glm::dvec3> queued_targets_;
+    bool has_queued_ = false;
+    bool stopping_ = false;
+    bool solving_ = false;
+    std::uint64_t next_generation_ = 1;
+    std::uint64_t queued_generation_ = 0;
+    std::uint64_t cancelled_through_ = 0;
+    std::uint64_t newest_generation_ = 0;
+    std::uint64_t newest_finished_ = 0;
+    int front_ = 0;
+    int reading_ = -1;
+    std::array<Frame, 3> frames_;
+
+    // Held by whoever runs the DeformSession: the worker or solve_now.
+    std::mutex solve_mutex_;
+    std::uint64_t last_solved_ = 0;           // under solve_mutex_
+    std::vector<glm::dvec3> worker_targets_;  // the worker thread's own
+    std::atomic<bool> interrupt_{false};
+    std::mutex read_mutex_;
+
+    std::thread worker_;
+};
+
+}  // namespace dfm::deform

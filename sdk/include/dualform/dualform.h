@@ -1,0 +1,439 @@
+/*
+ * Dualform: real-time ROI mesh deformation with the dual Laplacian.
+ *
+ * The public C API. Pure C99; includes only <stddef.h>, <stdint.h> and
+ * <stdbool.h>.
+ *
+ * Conventions
+ * - Every fallible call returns a dfm_result. DFM_OK is 0. Out-parameters are
+ *   set to NULL/zero on failure.
+ * - The message of the last failing call is per thread:
+ *   dfm_last_error_message() returns it until the next failing dfm_ call on
+ *   the same thread. A successful call does not clear it.
+ * - Descriptor structs are valid when zero-initialised ("= {0}"); a zero field
+ *   takes the documented default.
+ * - dfm_X_destroy(NULL) is a no-op.
+ * - Nothing throws across this boundary, and nothing aborts on bad input.
+ */
+#ifndef DUALFORM_DUALFORM_H
+#define DUALFORM_DUALFORM_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "dualform/version.h"
+
+#if defined(DFM_STATIC)
+#define DFM_API
+#elif defined(DFM_BUILDING_LIBRARY)
+#define DFM_API __attribute__((visibility("default")))
+#else
+#define DFM_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---------------------------------------------------------------- results */
+
+typedef enum dfm_result {
+    DFM_OK = 0,
+    DFM_ERROR_INVALID_ARGUMENT = 1, /* NULL where a value is needed, a bad size or flag */
+    DFM_ERROR_NOT_FOUND = 2,        /* a file, model or vertex that does not exist */
+    DFM_ERROR_IO = 3,               /* reading or writing a file failed */
+    DFM_ERROR_PARSE = 4,            /* a file's contents are malformed */
+    DFM_ERROR_OUT_OF_RANGE = 5,     /* an index past the end of its array */
+    DFM_ERROR_UNSUPPORTED = 6,      /* valid, but not something Dualform does */
+    DFM_ERROR_OUT_OF_MEMORY = 7,    /* an allocation failed; nothing was changed */
+    DFM_ERROR_NUMERICAL = 8,        /* non-finite input, or a solve that broke down */
+    DFM_ERROR_INVALID_HANDLE = 9,   /* a handle already destroyed, or of the wrong kind */
+    DFM_ERROR_BUSY = 10,            /* the object is in use in a way that forbids the call */
+    DFM_ERROR_DEVICE = 11,          /* the graphics device failed (renderer only) */
+    DFM_ERROR_CANCELLED = 12        /* the work was cancelled before it finished */
+} dfm_result;
+
+/* The name of a result code ("DFM_ERROR_PARSE"); never NULL. Thread-safe. */
+DFM_API const char* dfm_result_name(dfm_result result);
+
+/* The message of the last failing dfm_ call on this thread ("" if none). The
+ * string belongs to the library and stays valid until the next failing call on
+ * this thread. Thread-safe (each thread has its own). */
+DFM_API const char* dfm_last_error_message(void);
+
+/* The code of the last failing dfm_ call on this thread (DFM_OK if none). */
+DFM_API dfm_result dfm_last_error_code(void);
+
+/* DFM_VERSION of the library actually linked (may differ from the header's). */
+DFM_API uint32_t dfm_version(void);
+
+/* ---------------------------------------------------------------- camera */
+
+/* A pinhole camera, as in SCENARIOS.md: at `eye` looking at `target`, `up`
+ * giving the image's up direction, `fov_y_degrees` the full vertical field of
+ * view, an image of width x height pixels. Pixel coordinates are continuous:
+ * (0,0) is the top-left corner, x right, y down; (w/2,h/2) looks at target.
+ * Picking and the renderer use the same camera, so a pixel and a pick agree. */
+typedef struct dfm_camera {
+    double eye[3];
+    double target[3];
+    double up[3];
+    double fov_y_degrees;
+    uint32_t width;
+    uint32_t height;
+} dfm_camera;
+
+/* ---------------------------------------------------------------- arrays */
+
+typedef enum dfm_scalar_type {
+    DFM_SCALAR_FLOAT32 = 0, /* float x, y, z (the default) */
+    DFM_SCALAR_FLOAT64 = 1  /* double x, y, z */
+} dfm_scalar_type;
+
+/* Host-owned 3-vectors read by the library: `count` vectors, vector i at
+ * (const char*)data + i * stride. stride 0 means tightly packed. */
+typedef struct dfm_vec3_input {
+    const void* data;
+    size_t count;
+    size_t stride;
+    dfm_scalar_type type;
+} dfm_vec3_input;
+
+/* Host-owned 3-vectors written by the library; same layout rules. The count
+ * is the capacity: a call that needs more fails with
+ * DFM_ERROR_INVALID_ARGUMENT and writes nothing. */
+typedef struct dfm_vec3_output {
+    void* data;
+    size_t count;
+    size_t stride;
+    dfm_scalar_type type;
+} dfm_vec3_output;
+
+/* ---------------------------------------------------------------- context */
+
+typedef struct dfm_context dfm_context;
+
+/* Host memory hooks for every object the C API creates (contexts, meshes,
+ * ROIs, sessions). alloc returns memory aligned to `alignment` (a power of two
+ * up to 64) or NULL on failure, which the call reports as
+ * DFM_ERROR_OUT_OF_MEMORY. free receives the size that was allocated. The
+ * engine's working arrays use the C++ global allocator; its failures are
+ * reported the same way. Both hooks may be called from any thread,
+ * including session workers. */
+typedef struct dfm_allocator {
+    void* (*alloc)(void* user, size_t size, size_t alignment);
+    void (*free)(void* user, void* memory, size_t size);
+    void* user;
+} dfm_allocator;
+
+typedef enum dfm_log_level {
+    DFM_LOG_DEBUG = 0,
+    DFM_LOG_INFO = 1,
+    DFM_LOG_WARNING = 2,
+    DFM_LOG_ERROR = 3
+} dfm_log_level;
+
+/* Stable message ids for the log callback, so a host can filter or test. */
+typedef enum dfm_log_id {
+    DFM_LOG_ID_LOAD_WARNING = 1,        /* a mesh file had a recoverable defect */
+    DFM_LOG_ID_WATER_FILL_SUSPECT = 2,  /* Water-Filling most likely leaked */
+    DFM_LOG_ID_SOLVE_NOT_CONVERGED = 3, /* a synchronous solve hit its iteration cap */
+    DFM_LOG_ID_SOLVE_FAILED = 4         /* a solve broke down; the last good result is kept */
+} dfm_log_id;
+
+/* Receives diagnostics. Called on the thread that made the dfm_ call (never
+ * on a session's worker: asynchronous outcomes are in dfm_frame_info);
+ * `message` lives only during the call. */
+typedef void (*dfm_log_fn)(void* user, dfm_log_level level, dfm_log_id id, const char* message);
+
+typedef struct dfm_context_desc {
+    dfm_allocator allocator; /* both hooks NULL: malloc/free */
+    dfm_log_fn log;          /* NULL: no logging */
+    void* log_user;
+    /* Threads each session's solver uses for its factor and solves, its
+     * worker thread included; 0 means 1. Results do not depend on it. */
+    uint32_t worker_count;
+} dfm_context_desc;
+
+/* Creates a context; desc may be NULL for all defaults. *out receives the
+ * context, owned by the caller until dfm_context_destroy. Thread-safe. */
+DFM_API dfm_result dfm_context_create(const dfm_context_desc* desc, dfm_context** out);
+
+/* Releases the caller's reference. Objects created from the context keep what
+ * they need alive, so destroying it first is safe. NULL is a no-op. Must not
+ * race another call on the same context. */
+DFM_API void dfm_context_destroy(dfm_context* context);
+
+/* ---------------------------------------------------------------- mesh */
+
+typedef struct dfm_mesh dfm_mesh;
+
+/* A triangle mesh from the host's arrays, copied (the host may free its
+ * arrays after the call). Indices: triangle t's corners are the three
+ * uint32_t at (const char*)indices + t * index_stride (0: packed, 12 bytes). */
+typedef struct dfm_mesh_desc {
+    dfm_vec3_input positions;
+    const uint32_t* indices;
+    size_t triangle_count;
+    size_t index_stride;
+} dfm_mesh_desc;
+
+/* Copies a mesh from host arrays. Errors: NULL arguments, no vertices or
+ * triangles, an index out of range (the message names triangle and corner),
+ * a non-finite position (names the vertex), a triangle repeating a vertex.
+ * *out is owned by the caller. Thread-safe. */
+DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_mesh_desc* desc, dfm_mesh** out);
+
+/* Loads an OFF, OBJ or PLY file, or "model:NAME" from the model cache
+ * ($DUALFORM_MODELS, default ~/.cache/dualform/models). Errors name the file,
+ * line or byte offset and element. Recoverable defects go to the log
+ * (DFM_LOG_ID_LOAD_WARNING). *out is owned by the caller. Thread-safe. */
+DFM_API dfm_result dfm_mesh_load(dfm_context* context, const char* path, dfm_mesh** out);
+
+/* Writes the mesh's current rest pose (after bakes) to an .off, .obj or .ply
+ * file, atomically: a failed save leaves an existing file untouched.
+ * Thread-safe. */
+DFM_API dfm_result dfm_mesh_save(const dfm_mesh* mesh, const char* path);
+
+/* Releases the caller's reference; sessions on the mesh keep it alive. NULL is
+ * a no-op. Must not race another call on the same mesh. */
+DFM_API void dfm_mesh_destroy(dfm_mesh* mesh);
+
+typedef struct dfm_mesh_info {
+    size_t vertex_count;
+    size_t triangle_count;
+    double bounds_min[3];
+    double bounds_max[3];
+    double diagonal;       /* of the bounding box: the unit of tolerances */
+    size_t components;     /* connected components */
+    size_t boundary_edges; /* edges with one face */
+    size_t bake_count;     /* bakes that undo can still take back */
+    size_t redo_count;     /* undone bakes that redo can bring back */
+} dfm_mesh_info;
+
+/* Fills *out with the current rest pose's figures. Thread-safe. */
+DFM_API dfm_result dfm_mesh_get_info(const dfm_mesh* mesh, dfm_mesh_info* out);
+
+/* Copies the rest positions (all vertex_count of them) into the host's
+ * buffer. Thread-safe. */
+DFM_API dfm_result dfm_mesh_read_positions(const dfm_mesh* mesh, const dfm_vec3_output* out);
+
+/* Copies the triangles' vertex indices (3 per triangle) into `indices`,
+ * which holds `capacity` uint32_t. Thread-safe. */
+DFM_API dfm_result dfm_mesh_read_indices(const dfm_mesh* mesh, uint32_t* indices, size_t capacity);
+
+/* Area-weighted unit vertex normals of the rest pose. Thread-safe. */
+DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh, const dfm_vec3_output* out);
+
+/* Takes back the last bake: the rest pose before it returns. Sessions created
+ * before keep working on the shape they started from, but can no longer
+ * bake. DFM_ERROR_NOT_FOUND when there is nothing to undo. Thread-safe. */
+DFM_API dfm_result dfm_mesh_undo_bake(dfm_mesh* mesh);
+
+/* Brings back the last undone bake. DFM_ERROR_NOT_FOUND when there is none;
+ * a new bake forgets what could be redone. Thread-safe. */
+DFM_API dfm_result dfm_mesh_redo_bake(dfm_mesh* mesh);
+
+/* ---------------------------------------------------------------- picking */
+
+typedef struct dfm_hit {
+    bool hit;
+    uint32_t face;
+    uint32_t vertex; /* the face's corner nearest the hit point */
+    double point[3];
+    double distance; /* along the ray */
+    double barycentric[3];
+} dfm_hit;
+
+/* Casts the ray through pixel (x, y) of the camera onto the rest pose (Embree;
+ * the scene is built on first use and after each bake). A miss is DFM_OK with
+ * out->hit false. Thread-safe. */
+DFM_API dfm_result dfm_mesh_pick(dfm_mesh* mesh, const dfm_camera* camera, double x, double y,
+                                 dfm_hit* out);
+
+/* The same along a ray given by origin and direction (not necessarily unit). */
+DFM_API dfm_result dfm_mesh_pick_ray(dfm_mesh* mesh, const double origin[3],
+                                     const double direction[3], dfm_hit* out);
+
+/* ---------------------------------------------------------------- ROI */
+
+/* A region of interest: a set of vertices of one mesh, immutable. */
+typedef struct dfm_roi dfm_roi;
+
+typedef struct dfm_water_fill_diagnosis {
+    size_t loops;              /* cut loops bounding the region */
+    bool bounded_by_last_loop; /* the loop through `last` is one of them */
+    bool suspect;              /* most likely leaked past the intended limb */
+} dfm_water_fill_diagnosis;
+
+/* The paper's Water-Filling from vertex `first` up to the cutting plane through
+ * vertex `last` (DESIGN.md). `diagnosis` may be NULL. A suspect region is
+ * still returned (and logged as DFM_LOG_ID_WATER_FILL_SUSPECT): the host
+ * decides. *out is owned by the caller. Thread-safe. */
+DFM_API dfm_result dfm_roi_water_fill(dfm_mesh* mesh, uint32_t first, uint32_t last, dfm_roi** out,
+                                      dfm_water_fill_diagnosis* diagnosis);
+
+/* Water-Filling from two clicks: each pixel is picked through the camera and
+ * its nearest corner vertex used. DFM_ERROR_NOT_FOUND when a click misses
+ * the mesh (the message says which). */
+DFM_API dfm_result dfm_roi_water_fill_clicks(dfm_mesh* mesh, const dfm_camera* camera,
+                                             const double first_pixel[2],
+                                             const double last_pixel[2], dfm_roi** out,
+                                             dfm_water_fill_diagnosis* diagnosis);
+
+/* An explicit list (duplicates merged). Errors name the offending entry. */
+DFM_API dfm_result dfm_roi_from_vertices(dfm_mesh* mesh, const uint32_t* vertices, size_t count,
+                                         dfm_roi** out);
+
+/* Every vertex reachable from `center` along edges without leaving the ball
+ * of radius `radius` x diagonal around it. */
+DFM_API dfm_result dfm_roi_ball(dfm_mesh* mesh, uint32_t center, double radius, dfm_roi** out);
+
+/* The whole mesh. */
+DFM_API dfm_result dfm_roi_all(dfm_mesh* mesh, dfm_roi** out);
+
+/* Grows (rings > 0) or shrinks (rings < 0) the region by whole edge rings. */
+DFM_API dfm_result dfm_roi_grow(const dfm_roi* roi, int rings, dfm_roi** out);
+
+/* Union and difference of two ROIs of the same mesh. */
+DFM_API dfm_result dfm_roi_union(const dfm_roi* a, const dfm_roi* b, dfm_roi** out);
+DFM_API dfm_result dfm_roi_difference(const dfm_roi* a, const dfm_roi* b, dfm_roi** out);
+
+/* The region's vertices with a neighbour outside it: what stays fixed. */
+DFM_API dfm_result dfm_roi_boundary(const dfm_roi* roi, dfm_roi** out);
+
+/* Number of vertices in the region. */
+DFM_API dfm_result dfm_roi_count(const dfm_roi* roi, size_t* out);
+
+/* Copies the ascending vertex indices into `vertices` (capacity entries). */
+DFM_API dfm_result dfm_roi_read(const dfm_roi* roi, uint32_t* vertices, size_t capacity);
+
+/* NULL is a no-op. ROIs are immutable: every call but destroy is thread-safe. */
+DFM_API void dfm_roi_destroy(dfm_roi* roi);
+
+/* ---------------------------------------------------------------- session */
+
+typedef struct dfm_session dfm_session;
+
+/* Zero means the default. */
+typedef struct dfm_solver_settings {
+    double tolerance;        /* largest vertex update / diagonal that ends it; 1e-5 */
+    uint32_t max_iterations; /* 100 */
+    double handle_weight;    /* weight of the soft handle rows; 1 */
+    bool hard_handles;       /* handles met exactly instead of weighted */
+} dfm_solver_settings;
+
+/* A group of handle vertices that move together (one transform). */
+typedef struct dfm_handle_group {
+    const uint32_t* vertices;
+    size_t count;
+} dfm_handle_group;
+
+typedef struct dfm_session_desc {
+    const dfm_roi* roi; /* required; created on the same mesh */
+    const dfm_handle_group* groups;
+    size_t group_count; /* at least one */
+    dfm_solver_settings solver;
+} dfm_session_desc;
+
+/* Sets up one edit: assembles and factors the ROI's system and starts the
+ * session's worker thread. Handle vertices must lie in the ROI, each in one
+ * group (errors name the group and vertex). The session starts at the rest
+ * pose with every group's transform the identity. It holds its mesh alive.
+ * *out is owned by the caller. Thread-safe. */
+DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_session_desc* desc,
+                                      dfm_session** out);
+
+/* Stops the worker after its current iteration, joins it and frees the
+ * session; returns within one iteration's time. NULL is a no-op. Must not
+ * race another call on the same session. */
+DFM_API void dfm_session_destroy(dfm_session* session);
+
+/* Stages group `group`'s transform: a column-major 4x4 affine matrix applied
+ * to the group's rest positions (translation in elements 12..14). Takes
+ * effect at the next submit or solve. Never blocks on the worker. */
+DFM_API dfm_result dfm_session_set_group_transform(dfm_session* session, uint32_t group,
+                                                   const double matrix[16]);
+
+/* Stages explicit targets, one per handle vertex in group order (see
+ * dfm_session_get_handle_count); replaces the group transforms' targets. */
+DFM_API dfm_result dfm_session_set_targets(dfm_session* session, const dfm_vec3_input* targets);
+
+/* Number of handle vertices (targets) of the session. */
+DFM_API dfm_result dfm_session_get_handle_count(const dfm_session* session, size_t* out);
+
+/* Changes the tolerance and iteration cap for later solves. handle_weight and
+ * hard_handles are fixed at creation (a different value is
+ * DFM_ERROR_UNSUPPORTED); zero fields keep their current values. */
+DFM_API dfm_result dfm_session_set_solver(dfm_session* session,
+                                          const dfm_solver_settings* settings);
+
+/* Hands the staged targets to the worker and returns at once with their
+ * generation (1, 2, ...). Latest wins: staged targets not yet started are
+ * replaced, and a running solve stops after its current iteration, publishing
+ * that iterate as a partial frame. Non-finite targets: DFM_ERROR_NUMERICAL,
+ * nothing queued. */
+DFM_API dfm_result dfm_session_submit(dfm_session* session, uint64_t* generation);
+
+/* Solves the staged targets on the calling thread (stopping the worker's
+ * solve first) and publishes the frame; the result is bit for bit what the
+ * worker would compute from the same state. For tools and tests. */
+DFM_API dfm_result dfm_session_solve(dfm_session* session, uint64_t* generation);
+
+/* Drops queued targets and stops the running solve after its current
+ * iteration; returns when the worker is idle. Published frames stay. */
+DFM_API dfm_result dfm_session_cancel(dfm_session* session);
+
+/* What a frame is. */
+typedef struct dfm_frame_info {
+    uint64_t generation; /* the targets' generation; 0 = the start state */
+    dfm_result status;   /* DFM_ERROR_NUMERICAL: broke down, last good positions */
+    bool converged;
+    bool partial; /* stopped early for newer targets */
+    uint32_t iterations;
+    double last_update; /* largest vertex move of the last iteration / diagonal */
+    double solve_ms;
+    uint64_t checksum; /* FNV-1a of the frame's ROI positions as doubles */
+} dfm_frame_info;
+
+/* The newest published frame's info, and whether it is newer than
+ * `known_generation`: the host's cheap per-frame check. Never blocks on the
+ * worker. `is_new` may be NULL. */
+DFM_API dfm_result dfm_session_poll(dfm_session* session, uint64_t known_generation,
+                                    dfm_frame_info* out, bool* is_new);
+
+/* Waits (no spinning) until a finished frame of generation >= `generation`
+ * is published: DFM_OK. DFM_ERROR_CANCELLED if that generation was cancelled,
+ * DFM_ERROR_BUSY on timeout (timeout_ms < 0: no limit). `out` may be NULL. */
+DFM_API dfm_result dfm_session_wait(dfm_session* session, uint64_t generation, int64_t timeout_ms,
+                                    dfm_frame_info* out);
+
+/* Copies the newest frame's positions of the whole mesh into the host's
+ * buffer (vertex_count entries), and its info into `info` (may be NULL). Never
+ * returns a torn frame; the worker never waits for it. */
+DFM_API dfm_result dfm_session_read_positions(dfm_session* session, const dfm_vec3_output* out,
+                                              dfm_frame_info* info);
+
+/* The same as unit vertex normals of the whole mesh. */
+DFM_API dfm_result dfm_session_read_normals(dfm_session* session, const dfm_vec3_output* out,
+                                            dfm_frame_info* info);
+
+/* Only the ROI's vertices, in the ascending order of dfm_roi_read: the cheap
+ * read for large meshes (roi count entries). With DFM_SCALAR_FLOAT64 and
+ * stride 0 the bytes are exactly those the frame's checksum covers. */
+DFM_API dfm_result dfm_session_read_roi_positions(dfm_session* session, const dfm_vec3_output* out,
+                                                  dfm_frame_info* info);
+
+/* Bakes the newest finished frame into the mesh's rest pose (undoable with
+ * dfm_mesh_undo_bake), then restarts the session on the new rest pose with
+ * the same ROI and groups and identity transforms. DFM_ERROR_BUSY when the
+ * mesh has changed since the session was created (another bake or an undo).
+ * Not concurrent with other calls on the session. */
+DFM_API dfm_result dfm_session_bake(dfm_session* session);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,246 @@
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include "c_boundary.hpp"
+#include "mesh/load.hpp"
+#include "mesh/model_cache.hpp"
+#include "mesh/normals.hpp"
+#include "mesh/summary.hpp"
+#include "mesh/write.hpp"
+#include "objects.hpp"
+#include "vec3_arrays.hpp"
+
+using namespace dfm;
+using namespace dfm::sdk;
+
+namespace {
+
+dfm_result make_mesh_handle(const ContextState& context,
+                            const std::shared_ptr<const ContextState>& shared, mesh::Mesh mesh,
+                            dfm_mesh** out) {
+    auto model =
+        std::allocate_shared<deform::MeshModel>(HostAllocator<deform::MeshModel>(context.allocator),
+                                                deform::build_mesh_model(std::move(mesh)));
+    auto state = std::allocate_shared<MeshState>(HostAllocator<MeshState>(context.allocator));
+    state->context = shared;
+    state->model = std::move(model);
+    *out = host_new<dfm_mesh>(context, Kind::mesh, std::move(state));
+    return DFM_OK;
+}
+
+Status check_triangles(const mesh::Mesh& m) {
+    const std::size_t n = m.vertex_count();
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        const mesh::Triangle& tri = m.triangles[t];
+        for (int c = 0; c < 3; ++c) {
+            if (tri[c] >= n) {
+                return Status(Errc::out_of_range, "triangle " + std::to_string(t) + " corner " +
+                                                      std::to_string(c) + ": vertex " +
+                                                      std::to_string(tri[c]) +
+                                                      " is out of range (there are " +
+                                                      std::to_string(n) + " vertices)");
+            }
+        }
+        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) {
+            return Status(Errc::invalid_argument,
+                          "triangle " + std::to_string(t) + " repeats a vertex");
+        }
+    }
+    return Status::ok();
+}
+
+}  // namespace
+
+extern "C" DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_mesh_desc* desc,
+                                              dfm_mesh** out) {
+    constexpr const char* fn = "dfm_mesh_create";
+    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+    *out = nullptr;
+    if (!is_live(context, Kind::context)) return bad_handle(fn, "context", context);
+    if (desc == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "desc is NULL");
+    if (std::string e = check_vec3_input(&desc->positions, "desc->positions"); !e.empty()) {
+        return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
+    }
+    if (desc->indices == nullptr) {
+        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "desc->indices is NULL");
+    }
+    if (desc->positions.count == 0 || desc->triangle_count == 0) {
+        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the mesh needs vertices and triangles");
+    }
+    if (desc->positions.count > 0xFFFFFFFEu || desc->triangle_count > 0xFFFFFFFEu) {
+        return report(fn, DFM_ERROR_OUT_OF_RANGE, "more than 2^32 - 2 vertices or triangles");
+    }
+    if (desc->index_stride != 0 && desc->index_stride < 3 * sizeof(std::uint32_t)) {
+        return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                      "desc->index_stride " + std::to_string(desc->index_stride) +
+                          " is smaller than one triangle (12 bytes)");
+    }
+    return guarded(fn, [&] {
+        mesh::Mesh m;
+        m.positions.resize(desc->positions.count);
+        for (std::size_t i = 0; i < m.positions.size(); ++i) {
+            m.positions[i] = read_vec3(desc->positions, i);
+            if (!std::isfinite(m.positions[i].x) || !std::isfinite(m.positions[i].y) ||
+                !std::isfinite(m.positions[i].z)) {
+                return report(fn, DFM_ERROR_NUMERICAL,
+                              "vertex " + std::to_string(i) + " is not finite");
+            }
+        }
+        const std::size_t stride = desc->index_stride != 0 ? desc->index_stride : 12;
+        m.triangles.resize(desc->triangle_count);
+        for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+            std::memcpy(m.triangles[t].data(),
+                        reinterpret_cast<const char*>(desc->indices) + t * stride,
+                        3 * sizeof(std::uint32_t));
+        }
+        if (Status s = check_triangles(m); !s) return report(fn, s);
+        return make_mesh_handle(*context->state, context->state, std::move(m), out);
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_load(dfm_context* context, const char* path,
+                                            dfm_mesh** out) {
+    constexpr const char* fn = "dfm_mesh_load";
+    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+    *out = nullptr;
+    if (!is_live(context, Kind::context)) return bad_handle(fn, "context", context);
+    if (path == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path is NULL");
+    return guarded(fn, [&] {
+        std::filesystem::path file;
+        if (Status s = mesh::resolve_mesh_spec(path, std::filesystem::current_path(), file); !s) {
+            return report(fn, s);
+        }
+        mesh::Mesh m;
+        mesh::LoadReport load_report;
+        if (Status s = mesh::load_mesh(file, m, &load_report); !s) return report(fn, s);
+        for (const std::string& warning : load_report.warnings) {
+            context->state->emit(DFM_LOG_WARNING, DFM_LOG_ID_LOAD_WARNING, warning);
+        }
+        if (m.vertex_count() == 0 || m.face_count() == 0) {
+            return report(fn, DFM_ERROR_PARSE, file.string() + ": the mesh has no triangles");
+        }
+        return make_mesh_handle(*context->state, context->state, std::move(m), out);
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_save(const dfm_mesh* mesh, const char* path) {
+    constexpr const char* fn = "dfm_mesh_save";
+    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
+    if (path == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path is NULL");
+    return guarded(fn,
+                   [&] { return report(fn, mesh::save_mesh(path, mesh->state->current()->mesh)); });
+}
+
+extern "C" DFM_API void dfm_mesh_destroy(dfm_mesh* mesh) {
+    if (!is_live(mesh, Kind::mesh)) return;
+    host_delete(mesh);
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_get_info(const dfm_mesh* mesh, dfm_mesh_info* out) {
+    constexpr const char* fn = "dfm_mesh_get_info";
+    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+    *out = dfm_mesh_info{};
+    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
+    return guarded(fn, [&] {
+        const MeshState& state = *mesh->state;
+        std::shared_ptr<const deform::MeshModel> model;
+        {
+            std::lock_guard<std::mutex> lock(state.mutex);
+            model = state.model;
+            out->bake_count = state.undo.size();
+            out->redo_count = state.redo.size();
+        }
+        const mesh::MeshSummary summary = mesh::summarize(model->mesh);
+        out->vertex_count = summary.vertices;
+        out->triangle_count = summary.faces;
+        for (int c = 0; c < 3; ++c) {
+            out->bounds_min[c] = summary.bounds.min[c];
+            out->bounds_max[c] = summary.bounds.max[c];
+        }
+        out->diagonal = model->diagonal;
+        out->components = summary.components;
+        out->boundary_edges = summary.boundary_edges;
+        return DFM_OK;
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_read_positions(const dfm_mesh* mesh,
+                                                      const dfm_vec3_output* out) {
+    constexpr const char* fn = "dfm_mesh_read_positions";
+    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
+    return guarded(fn, [&] {
+        const auto model = mesh->state->current();
+        const auto& positions = model->mesh.positions;
+        if (std::string e = check_vec3_output(out, positions.size(), "out"); !e.empty()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
+        }
+        for (std::size_t i = 0; i < positions.size(); ++i) write_vec3(*out, i, positions[i]);
+        return DFM_OK;
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_read_indices(const dfm_mesh* mesh, uint32_t* indices,
+                                                    size_t capacity) {
+    constexpr const char* fn = "dfm_mesh_read_indices";
+    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
+    if (indices == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "indices is NULL");
+    return guarded(fn, [&] {
+        const auto model = mesh->state->current();
+        const auto& triangles = model->mesh.triangles;
+        if (capacity < 3 * triangles.size()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "room for " + std::to_string(capacity) + " indices, " +
+                              std::to_string(3 * triangles.size()) + " needed");
+        }
+        std::memcpy(indices, triangles.data(), triangles.size() * sizeof(mesh::Triangle));
+        return DFM_OK;
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh,
+                                                    const dfm_vec3_output* out) {
+    constexpr const char* fn = "dfm_mesh_read_normals";
+    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
+    return guarded(fn, [&] {
+        const auto model = mesh->state->current();
+        if (std::string e = check_vec3_output(out, model->mesh.vertex_count(), "out"); !e.empty()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
+        }
+        std::vector<glm::dvec3> normals;
+        mesh::compute_vertex_normals(model->mesh, model->mesh.positions, normals);
+        for (std::size_t i = 0; i < normals.size(); ++i) write_vec3(*out, i, normals[i]);
+        return DFM_OK;
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_undo_bake(dfm_mesh* mesh) {
+    constexpr const char* fn = "dfm_mesh_undo_bake";
+    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
+    return guarded(fn, [&] {
+        MeshState& state = *mesh->state;
+        std::lock_guard<std::mutex> lock(state.mutex);
+        if (state.undo.empty()) return report(fn, DFM_ERROR_NOT_FOUND, "no bake to undo");
+        state.redo.reserve(state.redo.size() + 1);
+        state.redo.push_back(state.model);
+        state.model = state.undo.back();
+        state.undo.pop_back();
+        return DFM_OK;
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_redo_bake(dfm_mesh* mesh) {
+    constexpr const char* fn = "dfm_mesh_redo_bake";
+    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
+    return guarded(fn, [&] {
+        MeshState& state = *mesh->state;
+        std::lock_guard<std::mutex> lock(state.mutex);
+        if (state.redo.empty()) return report(fn, DFM_ERROR_NOT_FOUND, "no undone bake to redo");
+        state.undo.reserve(state.undo.size() + 1);
+        state.undo.push_back(state.model);
+        state.model = state.redo.back();
+        state.redo.pop_back();
+        return DFM_OK;
+    });
+}

@@ -1,0 +1,111 @@
+#include <cmath>
+#include <optional>
+
+#include "c_boundary.hpp"
+#include "objects.hpp"
+#include "pick/pick.hpp"
+#include "pick_camera.hpp"
+
+using namespace dfm;
+using namespace dfm::sdk;
+
+namespace dfm::sdk {
+
+pick::Camera to_camera(const dfm_camera& c) {
+    pick::Camera camera;
+    camera.eye = {c.eye[0], c.eye[1], c.eye[2]};
+    camera.target = {c.target[0], c.target[1], c.target[2]};
+    camera.up = {c.up[0], c.up[1], c.up[2]};
+    camera.fov_y_degrees = c.fov_y_degrees;
+    camera.width = c.width;
+    camera.height = c.height;
+    return camera;
+}
+
+Status with_scene(MeshState& state, const std::function<Status(const pick::EmbreeScene&)>& use) {
+    std::lock_guard<std::mutex> lock(state.mutex);
+    const deform::MeshModel& model = *state.model;
+    if (state.scene.empty()) {
+        if (Status s =
+                pick::EmbreeScene::create(model.mesh.positions, model.mesh.triangles, state.scene);
+            !s) {
+            return s;
+        }
+    } else if (state.scene_model != state.model) {
+        if (Status s = state.scene.refit(model.mesh.positions); !s) return s;
+    }
+    state.scene_model = state.model;
+    return use(state.scene);
+}
+
+}  // namespace dfm::sdk
+
+namespace {
+
+void fill_hit(const std::optional<pick::Hit>& hit, dfm_hit* out) {
+    *out = dfm_hit{};
+    if (!hit) return;
+    out->hit = true;
+    out->face = hit->face;
+    out->vertex = hit->vertex;
+    for (int c = 0; c < 3; ++c) out->point[c] = hit->point[c];
+    out->distance = hit->distance;
+    out->barycentric[0] = hit->u;
+    out->barycentric[1] = hit->v;
+    out->barycentric[2] = hit->w;
+}
+
+}  // namespace
+
+extern "C" DFM_API dfm_result dfm_mesh_pick(dfm_mesh* mesh, const dfm_camera* camera, double x,
+                                            double y, dfm_hit* out) {
+    constexpr const char* fn = "dfm_mesh_pick";
+    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+    *out = dfm_hit{};
+    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
+    if (camera == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "camera is NULL");
+    if (!std::isfinite(x) || !std::isfinite(y)) {
+        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the pixel is not finite");
+    }
+    return guarded(fn, [&] {
+        const pick::Camera c = to_camera(*camera);
+        if (Status s = pick::check_camera(c); !s) return report(fn, s);
+        std::optional<pick::Hit> hit;
+        const Status s = with_scene(*mesh->state, [&](const pick::EmbreeScene& scene) {
+            return pick::pick_pixel(scene, c, {x, y}, hit);
+        });
+        if (!s) return report(fn, s);
+        fill_hit(hit, out);
+        return DFM_OK;
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_pick_ray(dfm_mesh* mesh, const double origin[3],
+                                                const double direction[3], dfm_hit* out) {
+    constexpr const char* fn = "dfm_mesh_pick_ray";
+    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+    *out = dfm_hit{};
+    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
+    if (origin == nullptr || direction == nullptr) {
+        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "origin or direction is NULL");
+    }
+    return guarded(fn, [&] {
+        pick::Ray ray;
+        ray.origin = {origin[0], origin[1], origin[2]};
+        const glm::dvec3 d(direction[0], direction[1], direction[2]);
+        const double length = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+        if (!(length > 0.0) || !std::isfinite(length) || !std::isfinite(ray.origin.x) ||
+            !std::isfinite(ray.origin.y) || !std::isfinite(ray.origin.z)) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "the ray needs a finite origin and a finite, non-zero direction");
+        }
+        ray.direction = d / length;
+        std::optional<pick::Hit> hit;
+        const Status s = with_scene(*mesh->state, [&](const pick::EmbreeScene& scene) {
+            return pick::pick_ray(scene, ray, hit);
+        });
+        if (!s) return report(fn, s);
+        fill_hit(hit, out);
+        return DFM_OK;
+    });
+}

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs the build tree into a scratch prefix, then builds samples/c_minimal
+# against it twice, as an outside project would: with CMake's find_package
+# (shared and static) and with pkg-config; runs each on the cow.
+#
+# usage: install_consumer.sh BUILD_DIR SOURCE_DIR WORK_DIR
+set -euo pipefail
+build=$1 source=$2 work=$3
+
+rm -rf "$work"
+mkdir -p "$work"
+cmake --install "$build" --prefix "$work/prefix" >"$work/install.log"
+
+echo "== find_package"
+cmake -S "$source/samples/c_minimal" -B "$work/cmake" -DCMAKE_PREFIX_PATH="$work/prefix" \
+      -DCMAKE_BUILD_TYPE=Release >"$work/configure.log"
+cmake --build "$work/cmake" -j 2 >"$work/build.log"
+"$work/cmake/c_minimal" model:cow "$work/cow-shared.off"
+"$work/cmake/c_minimal_static" model:cow "$work/cow-static.off"
+cmp "$work/cow-shared.off" "$work/cow-static.off"
+
+echo "== pkg-config"
+pc=$(dirname "$(find "$work/prefix" -name dualform.pc)")
+flags=$(PKG_CONFIG_PATH=$pc pkg-config --cflags --libs dualform)
+libdir=$(PKG_CONFIG_PATH=$pc pkg-config --variable=libdir dualform)
+# shellcheck disable=SC2086
+cc -std=c99 -Wall -Wextra -pedantic -Werror "$source/samples/c_minimal/main.c" $flags \
+   -Wl,-rpath,"$libdir" -o "$work/c_minimal_pc"
+"$work/c_minimal_pc" model:cow "$work/cow-pc.off"
+cmp "$work/cow-shared.off" "$work/cow-pc.off"
+
+echo "== exported symbols"
+bad=$(nm -D --defined-only "$libdir/libdualform.so" | awk '{print $3}' | grep -v '^dfm_' || true)
+if [ -n "$bad" ]; then
+  echo "libdualform.so exports more than dfm_*:"; echo "$bad"; exit 1
+fi
+soname=$(objdump -p "$libdir/libdualform.so" | awk '/SONAME/ {print $2}')
+echo "SONAME $soname"
+[ "$soname" = "libdualform.so.0" ]
+echo "install_consumer: ok"
