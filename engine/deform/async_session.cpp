@@ -36,10 +36,12 @@ Status AsyncSession::create(std::unique_ptr<DeformSession> session,
         for (Frame& frame : s->frames_) {
             frame.positions.resize(s->moving_.size());
             frame.normals.resize(s->normals_.vertices().size());
+            frame.positions_f32.resize(3 * s->moving_.size());
+            frame.normals_f32.resize(3 * s->normals_.vertices().size());
         }
         s->queued_targets_.resize(s->handle_vertices_.size());
         s->worker_targets_.resize(s->handle_vertices_.size());
-        s->publish(0, SolveReport{.converged = true}, Errc::ok);
+        s->publish(0, SolveReport{.converged = true}, Errc::ok, false);
         s->worker_ = std::thread([raw = s.get()] { raw->run_worker(); });
         out = std::move(s);
         return Status::ok();
@@ -84,7 +86,6 @@ Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& 
         has_queued_ = true;
         queued_generation_ = next_generation_++;
         generation = queued_generation_;
-        if (solving_) interrupt_.store(true, std::memory_order_release);
     }
     work_ready_.notify_one();
     return Status::ok();
@@ -159,14 +160,11 @@ void AsyncSession::run_worker() {
             std::swap(queued_targets_, worker_targets_);
             generation = queued_generation_;
             has_queued_ = false;
-            solving_ = true;
             interrupt_.store(false, std::memory_order_release);
         }
         // The targets were checked when they were queued; a breakdown is
         // published as the frame's status.
         static_cast<void>(solve_and_publish(worker_targets_, generation, &interrupt_));
-        std::lock_guard<std::mutex> lock(mutex_);
-        solving_ = false;
     }
 }
 
@@ -180,36 +178,74 @@ Status AsyncSession::solve_and_publish(std::span<const glm::dvec3> targets,
     }
     last_solved_ = generation;
     if (Status s = session_->set_targets(targets); !s) return s;
-    SolveReport report;
-    const Status solved = session_->solve(report, interrupt);
-    if (report.interrupted) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        // Cancel and destroy discard the iterate; a newer submit shows it.
-        if (stopping_ || generation <= cancelled_through_) return Status::ok();
+    DeformSession::Control control;
+    control.interrupt = interrupt;
+    if (interrupt != nullptr) {
+        control.on_iteration = [&](const SolveReport& progress) {
+            const auto now = std::chrono::steady_clock::now();
+            if (now - last_publish_ < preview_interval) return;
+            publish(generation, progress, Errc::ok, true);
+        };
     }
-    publish(generation, report, solved.code());
+    SolveReport report;
+    const Status solved = session_->solve(report, &control);
+    // Stopped by cancel, destroy or a synchronous solve: nothing to show.
+    if (report.interrupted) return Status::ok();
+    publish(generation, report, solved.code(), false);
     return solved;
 }
 
-void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, Errc status) {
+const Frame* AsyncSession::acquire() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (held_ >= 0) return nullptr;
+    held_ = front_;
+    return &frames_[held_];
+}
+
+bool AsyncSession::holding() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return held_ >= 0;
+}
+
+bool AsyncSession::release() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (held_ < 0) return false;
+    held_ = -1;
+    return true;
+}
+
+void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, Errc status,
+                           bool partial) {
     int slot = 0;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        while (slot == front_ || slot == reading_) ++slot;
+        while (slot == front_ || slot == reading_ || slot == held_) ++slot;
     }
     Frame& frame = frames_[slot];
     const std::span<const glm::dvec3> positions = session_->positions();
     for (std::size_t i = 0; i < moving_.size(); ++i) frame.positions[i] = positions[moving_[i]];
     normals_.compute(positions, frame.normals);
+    for (std::size_t i = 0; i < frame.positions.size(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            frame.positions_f32[3 * i + c] = static_cast<float>(frame.positions[i][c]);
+        }
+    }
+    for (std::size_t i = 0; i < frame.normals.size(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            frame.normals_f32[3 * i + c] = static_cast<float>(frame.normals[i][c]);
+        }
+    }
     frame.generation = generation;
+    frame.partial = partial;
     frame.report = report;
     frame.status = status;
     frame.checksum = frame_checksum(frame.positions);
+    last_publish_ = std::chrono::steady_clock::now();
     {
         std::lock_guard<std::mutex> lock(mutex_);
         front_ = slot;
         newest_generation_ = generation;
-        if (!report.interrupted) newest_finished_ = generation;
+        if (!partial) newest_finished_ = generation;
     }
     frame_ready_.notify_all();
 }

@@ -21,6 +21,8 @@ namespace dfm::deform {
 struct Frame {
     // The targets' generation it was solved for; 0 is the start state.
     std::uint64_t generation = 0;
+    // A preview: an iterate published while the solve for `generation` runs.
+    bool partial = false;
     SolveReport report;
     // numerical: the solve broke down and `positions` are the last good ones.
     Errc status = Errc::ok;
@@ -29,18 +31,23 @@ struct Frame {
     std::uint64_t checksum = 0;
     std::vector<glm::dvec3> positions;  // one per AsyncSession::moving() vertex
     std::vector<glm::dvec3> normals;    // one per AsyncSession::normal_vertices() vertex
+    // The same in single precision, x y z per vertex, ready for a GPU upload.
+    std::vector<float> positions_f32;
+    std::vector<float> normals_f32;
 };
 
 std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
 
 // A DeformSession behind a worker thread (DESIGN.md, "Asynchronous engine").
 // The host submits targets without blocking; latest wins: queued targets that
-// a newer submit replaces are never solved, and a running solve stops after
-// its current iteration and publishes that iterate as an interrupted frame,
-// so a host that moves handles faster than the solve still sees the shape
-// follow. Frames are triple-buffered: the worker writes one slot while a
-// reader copies another, and neither waits for the other beyond swapping two
-// indices. Each frame is complete; none is ever torn.
+// a newer submit replaces are never solved. A running solve finishes (only
+// cancel, destroy and solve_now stop it early), so every finished frame is a
+// converged result; while it runs, an iterate is published as a partial
+// frame at most every preview_interval, so a host whose handles move faster
+// than the solve still sees the shape follow. Frames live in four slots: the
+// newest, the one the worker writes, one a reader copies and one a host holds
+// as a view; no side waits for another beyond swapping indices, and no frame
+// is ever torn.
 class AsyncSession {
 public:
     // `roi` is the region the session was created with (ascending); frames
@@ -96,6 +103,15 @@ public:
         reading_ = -1;
     }
 
+    // Holds the newest frame for the caller until release(): zero-copy
+    // reading. Null when a frame is already held (one at a time).
+    const Frame* acquire();
+    // Gives the held frame back; false when none is held.
+    bool release();
+    bool holding() const;
+
+    static constexpr std::chrono::milliseconds preview_interval{8};
+
     // The ROI, ascending (every vertex that may move is in it);
     // Frame::positions follows it.
     std::span<const std::uint32_t> moving() const { return moving_; }
@@ -110,7 +126,8 @@ private:
     // Solves for `targets` under solve_mutex_ and publishes the frame.
     Status solve_and_publish(std::span<const glm::dvec3> targets, std::uint64_t generation,
                              const std::atomic<bool>* interrupt);
-    void publish(std::uint64_t generation, const SolveReport& report, Errc status);
+    void publish(std::uint64_t generation, const SolveReport& report, Errc status,
+                 bool partial);
 
     std::unique_ptr<DeformSession> session_;
     const MeshModel& model_;
@@ -125,7 +142,6 @@ private:
     std::vector<glm::dvec3> queued_targets_;
     bool has_queued_ = false;
     bool stopping_ = false;
-    bool solving_ = false;
     std::uint64_t next_generation_ = 1;
     std::uint64_t queued_generation_ = 0;
     std::uint64_t cancelled_through_ = 0;
@@ -133,13 +149,15 @@ private:
     std::uint64_t newest_finished_ = 0;
     int front_ = 0;
     int reading_ = -1;
-    std::array<Frame, 3> frames_;
+    int held_ = -1;
+    std::array<Frame, 4> frames_;
 
     // Held by whoever runs the DeformSession: the worker or solve_now.
     std::mutex solve_mutex_;
     std::uint64_t last_solved_ = 0;           // under solve_mutex_
     std::vector<glm::dvec3> worker_targets_;  // the worker thread's own
     std::atomic<bool> interrupt_{false};
+    std::chrono::steady_clock::time_point last_publish_;  // under solve_mutex_
     std::mutex read_mutex_;
 
     std::thread worker_;

@@ -238,7 +238,8 @@ Status DeformSession::set_stopping_rule(double tolerance, int max_iterations) {
     return Status::ok();
 }
 
-Status DeformSession::solve(SolveReport& report, const std::atomic<bool>* interrupt) {
+Status DeformSession::solve(SolveReport& report, const Control* control) {
+    const std::atomic<bool>* interrupt = control != nullptr ? control->interrupt : nullptr;
     report = SolveReport{};
     const auto start = std::chrono::steady_clock::now();
     const double diag = model_.diagonal > 0.0 ? model_.diagonal : 1.0;
@@ -298,6 +299,7 @@ Status DeformSession::solve(SolveReport& report, const std::atomic<bool>* interr
         std::copy(next_.begin(), next_.end(), current_.begin());
         std::copy(next_.begin(), next_.end(), x_.begin());
         store_solution();
+        if (control != nullptr && control->on_iteration) control->on_iteration(report);
     }
     // The last linear solve, confirmed to its tolerance: what the host gets
     // is the solution of the last system, not one unchecked step of it. On a

@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -84,11 +85,18 @@ public:
     // Changes DeformSettings::tolerance and max_iterations for later solves.
     Status set_stopping_rule(double tolerance, int max_iterations);
 
-    // Runs the two-step iteration from the current positions. When `interrupt`
-    // is given and becomes true, the solve stops after the iteration in
-    // progress (an asynchronous host's newer targets or cancel); the first
-    // iteration always runs, so every solve makes progress.
-    Status solve(SolveReport& report, const std::atomic<bool>* interrupt = nullptr);
+    // How an asynchronous caller watches and stops a solve.
+    struct Control {
+        // When it becomes true the solve stops after the iteration in
+        // progress (cancel, destroy); the first iteration always runs.
+        const std::atomic<bool>* interrupt = nullptr;
+        // Called after each iteration that does not converge, with
+        // positions() holding that iterate: a preview for the host.
+        std::function<void(const SolveReport&)> on_iteration;
+    };
+
+    // Runs the two-step iteration from the current positions.
+    Status solve(SolveReport& report, const Control* control = nullptr);
 
     std::span<const glm::dvec3> positions() const { return positions_; }
     std::span<const std::uint32_t> handle_vertices() const { return handle_vertices_; }

@@ -1,5 +1,6 @@
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "c_boundary.hpp"
@@ -73,7 +74,7 @@ void fill_info(const deform::Frame& frame, dfm_frame_info* out) {
     out->generation = frame.generation;
     out->status = to_result(frame.status);
     out->converged = frame.report.converged;
-    out->partial = frame.report.interrupted;
+    out->partial = frame.partial;
     out->iterations = static_cast<std::uint32_t>(frame.report.iterations);
     out->last_update = frame.report.last_update;
     out->solve_ms = frame.report.solve_ms;
@@ -386,9 +387,47 @@ extern "C" DFM_API dfm_result dfm_session_read_roi_positions(dfm_session* sessio
         return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
     }
     session->async->read([&](const deform::Frame& f) {
-        write_vec3_range(*out, 0, f.positions);
+        if (out->type == DFM_SCALAR_FLOAT32 && (out->stride == 0 || out->stride == 12)) {
+            std::memcpy(out->data, f.positions_f32.data(), f.positions_f32.size() * sizeof(float));
+        } else {
+            write_vec3_range(*out, 0, f.positions);
+        }
         fill_info(f, info);
     });
+    return DFM_OK;
+}
+
+extern "C" DFM_API dfm_result dfm_session_acquire_frame(dfm_session* session,
+                                                        dfm_frame_view* out,
+                                                        dfm_frame_info* info) {
+    constexpr const char* fn = "dfm_session_acquire_frame";
+    if (info != nullptr) *info = dfm_frame_info{};
+    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+    *out = dfm_frame_view{};
+    dfm_result r = DFM_OK;
+    if (!live_session(fn, session, r)) return r;
+    const deform::Frame* frame = session->async->acquire();
+    if (frame == nullptr) {
+        return report(fn, DFM_ERROR_BUSY, "a frame is already held; release it first");
+    }
+    out->roi_positions = frame->positions_f32.data();
+    out->roi_positions_f64 = &frame->positions.front().x;
+    out->roi_vertices = session->async->moving().data();
+    out->roi_count = frame->positions.size();
+    out->normals = frame->normals_f32.data();
+    out->normal_vertices = session->async->normal_vertices().data();
+    out->normal_count = frame->normals.size();
+    fill_info(*frame, info);
+    return DFM_OK;
+}
+
+extern "C" DFM_API dfm_result dfm_session_release_frame(dfm_session* session) {
+    constexpr const char* fn = "dfm_session_release_frame";
+    dfm_result r = DFM_OK;
+    if (!live_session(fn, session, r)) return r;
+    if (!session->async->release()) {
+        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "no frame is held");
+    }
     return DFM_OK;
 }
 
@@ -396,6 +435,9 @@ extern "C" DFM_API dfm_result dfm_session_bake(dfm_session* session) {
     constexpr const char* fn = "dfm_session_bake";
     dfm_result r = DFM_OK;
     if (!live_session(fn, session, r)) return r;
+    if (session->async->holding()) {
+        return report(fn, DFM_ERROR_BUSY, "a frame is held; release it before baking");
+    }
     return guarded(fn, [&] {
         MeshState& mesh = *session->mesh;
         if (mesh.current() != session->model) {

@@ -18,7 +18,7 @@ using namespace dfm::test;
 // ThreadSanitizer by `tools/test tsan`.
 TEST_CASE(
     "async: 1 kHz targets against a concurrent reader: no torn frame and the newest arrives") {
-    LimbEdit limb(24, 40);
+    LimbEdit limb(48, 120);
     std::size_t count = 0;
     REQUIRE(dfm_roi_count(limb.roi, &count) == DFM_OK);
 

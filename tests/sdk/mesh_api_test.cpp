@@ -259,6 +259,37 @@ TEST_CASE("mesh api: ROI tools on a limb") {
     dfm_mesh_destroy(other);
 }
 
+TEST_CASE("mesh api: Water-Filling from two clicks through a camera") {
+    LimbEdit limb;
+    // Looking at the limb's front (z = 0.2) from z = 5: y = 1.9 projects to
+    // row 60 and y = 1.0 to row 200 of a 200 x 400 image.
+    const dfm_camera camera = {{0, 1, 5}, {0, 1, 0}, {0, 1, 0}, 30.0, 200, 400};
+    const double tip[2] = {100.0, 60.0}, middle[2] = {100.0, 200.0}, sky[2] = {5.0, 5.0};
+    dfm_roi* roi = nullptr;
+    dfm_water_fill_diagnosis diagnosis = {};
+    REQUIRE_MESSAGE(
+        dfm_roi_water_fill_clicks(limb.mesh, &camera, tip, middle, &roi, &diagnosis) == DFM_OK,
+        last_error());
+    std::size_t n = 0;
+    REQUIRE(dfm_roi_count(roi, &n) == DFM_OK);
+    std::vector<std::uint32_t> vertices(n);
+    REQUIRE(dfm_roi_read(roi, vertices.data(), n) == DFM_OK);
+    CHECK(n > 100);
+    CHECK(diagnosis.loops == 1);
+    for (std::uint32_t v : vertices) CHECK(limb.shape.positions[v].y > 0.85);
+    dfm_roi_destroy(roi);
+    CHECK(dfm_roi_water_fill_clicks(limb.mesh, &camera, sky, middle, &roi, nullptr) ==
+          DFM_ERROR_NOT_FOUND);
+    CHECK(message_has("the first click"));
+    CHECK(message_has("misses the mesh"));
+    CHECK(dfm_roi_water_fill_clicks(limb.mesh, &camera, tip, sky, &roi, nullptr) ==
+          DFM_ERROR_NOT_FOUND);
+    CHECK(message_has("the last click"));
+    CHECK(dfm_roi_water_fill_clicks(limb.mesh, nullptr, tip, middle, &roi, nullptr) ==
+          DFM_ERROR_INVALID_ARGUMENT);
+    CHECK(roi == nullptr);
+}
+
 TEST_CASE("mesh api: handles of the wrong kind or already destroyed are refused") {
     Context c;
     dfm_mesh* mesh = make_c_mesh(c.context, make_icosphere(1));

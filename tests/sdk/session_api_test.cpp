@@ -66,6 +66,32 @@ TEST_CASE("session: a synchronous edit moves the tip and keeps the base") {
     CHECK(handles == limb.tip.size());
 }
 
+TEST_CASE("session: explicit targets through a strided float array") {
+    LimbEdit limb;
+    struct HostTarget {
+        float xyz[3];
+        float weight;
+    };
+    std::vector<HostTarget> targets;
+    for (std::uint32_t v : limb.tip) {
+        const glm::dvec3& p = limb.shape.positions[v];
+        targets.push_back(
+            {{static_cast<float>(p.x), static_cast<float>(p.y) + 0.25f, static_cast<float>(p.z)},
+             1.0f});
+    }
+    const dfm_vec3_input in = {targets.data(), targets.size(), sizeof(HostTarget),
+                               DFM_SCALAR_FLOAT32};
+    REQUIRE(dfm_session_set_targets(limb.session, &in) == DFM_OK);
+    REQUIRE(dfm_session_solve(limb.session, nullptr) == DFM_OK);
+    const std::size_t n = limb.shape.vertex_count();
+    dfm_frame_info info = {};
+    const std::vector<double> moved = read_all(limb.session, &info, n);
+    CHECK(info.converged);
+    for (std::uint32_t v : limb.tip) {
+        CHECK(moved[3 * v + 1] == doctest::Approx(limb.shape.positions[v].y + 0.25).epsilon(0.02));
+    }
+}
+
 TEST_CASE("session: asynchronous results equal synchronous results bit for bit") {
     LimbEdit sync_edit, async_edit;
     const std::size_t n = sync_edit.shape.vertex_count();
@@ -117,6 +143,46 @@ TEST_CASE("session: a frame read through the ROI call matches its checksum") {
     const dfm_vec3_output small = {xyz.data(), count - 1, 0, DFM_SCALAR_FLOAT64};
     CHECK(dfm_session_read_roi_positions(limb.session, &small, &info) ==
           DFM_ERROR_INVALID_ARGUMENT);
+}
+
+TEST_CASE("session: a held frame view is whole and blocks only a second hold and a bake") {
+    LimbEdit limb;
+    double m[16];
+    translation(0.2, 0.0, 0.0, m);
+    REQUIRE(dfm_session_set_group_transform(limb.session, 0, m) == DFM_OK);
+    std::uint64_t g = 0;
+    REQUIRE(dfm_session_submit(limb.session, &g) == DFM_OK);
+    REQUIRE(dfm_session_wait(limb.session, g, -1, nullptr) == DFM_OK);
+    dfm_frame_view view = {};
+    dfm_frame_info info = {};
+    REQUIRE(dfm_session_acquire_frame(limb.session, &view, &info) == DFM_OK);
+    CHECK(info.generation == g);
+    std::size_t count = 0;
+    REQUIRE(dfm_roi_count(limb.roi, &count) == DFM_OK);
+    REQUIRE(view.roi_count == count);
+    CHECK(fnv1a(view.roi_positions_f64, 3 * count * sizeof(double)) == info.checksum);
+    std::vector<std::uint32_t> roi(count);
+    REQUIRE(dfm_roi_read(limb.roi, roi.data(), count) == DFM_OK);
+    CHECK(std::memcmp(roi.data(), view.roi_vertices, count * sizeof(std::uint32_t)) == 0);
+    for (std::size_t i = 0; i < count; ++i) {
+        CHECK(view.roi_positions[3 * i] == static_cast<float>(view.roi_positions_f64[3 * i]));
+    }
+    CHECK(view.normal_count > count);
+    // The worker keeps publishing while the view is held.
+    translation(0.3, 0.0, 0.0, m);
+    REQUIRE(dfm_session_set_group_transform(limb.session, 0, m) == DFM_OK);
+    REQUIRE(dfm_session_submit(limb.session, &g) == DFM_OK);
+    REQUIRE(dfm_session_wait(limb.session, g, -1, nullptr) == DFM_OK);
+    CHECK(fnv1a(view.roi_positions_f64, 3 * count * sizeof(double)) == info.checksum);
+    dfm_frame_view second = {};
+    CHECK(dfm_session_acquire_frame(limb.session, &second, nullptr) == DFM_ERROR_BUSY);
+    CHECK(dfm_session_bake(limb.session) == DFM_ERROR_BUSY);
+    REQUIRE(dfm_session_release_frame(limb.session) == DFM_OK);
+    CHECK(dfm_session_release_frame(limb.session) == DFM_ERROR_INVALID_ARGUMENT);
+    REQUIRE(dfm_session_acquire_frame(limb.session, &view, &info) == DFM_OK);
+    CHECK(info.generation == g);
+    REQUIRE(dfm_session_release_frame(limb.session) == DFM_OK);
+    CHECK(dfm_session_acquire_frame(limb.session, nullptr, nullptr) == DFM_ERROR_INVALID_ARGUMENT);
 }
 
 TEST_CASE("session: session misuse is refused with a code and a message") {

@@ -370,10 +370,12 @@ DFM_API dfm_result dfm_session_set_solver(dfm_session* session,
                                           const dfm_solver_settings* settings);
 
 /* Hands the staged targets to the worker and returns at once with their
- * generation (1, 2, ...). Latest wins: staged targets not yet started are
- * replaced, and a running solve stops after its current iteration, publishing
- * that iterate as a partial frame. Non-finite targets: DFM_ERROR_NUMERICAL,
- * nothing queued. */
+ * generation (1, 2, ...). Latest wins: queued targets not yet started are
+ * replaced and never solved. A running solve goes on to convergence, so every
+ * finished frame is a converged (or iteration-capped) result; while it runs,
+ * its iterate is published as a partial frame at most every 8 ms, so the
+ * shape follows a fast drag. Non-finite targets: DFM_ERROR_NUMERICAL, nothing
+ * queued. */
 DFM_API dfm_result dfm_session_submit(dfm_session* session, uint64_t* generation);
 
 /* Solves the staged targets on the calling thread (stopping the worker's
@@ -425,10 +427,33 @@ DFM_API dfm_result dfm_session_read_normals(dfm_session* session, const dfm_vec3
 DFM_API dfm_result dfm_session_read_roi_positions(dfm_session* session, const dfm_vec3_output* out,
                                                   dfm_frame_info* info);
 
+/* A frame lent to the host without copying: the newest frame's arrays, valid
+ * until dfm_session_release_frame. All pointers belong to the session. */
+typedef struct dfm_frame_view {
+    const float* roi_positions;      /* x y z per ROI vertex, in roi_vertices order */
+    const double* roi_positions_f64; /* the same in double (what the checksum covers) */
+    const uint32_t* roi_vertices;    /* the ROI, ascending (as dfm_roi_read) */
+    size_t roi_count;
+    const float* normals;            /* x y z unit normal per entry of normal_vertices */
+    const uint32_t* normal_vertices; /* every vertex whose normal the edit changes */
+    size_t normal_count;
+} dfm_frame_view;
+
+/* Lends the newest frame: the cheapest read, constant time whatever the ROI
+ * size. The worker keeps publishing into other buffers meanwhile. One frame
+ * may be held per session: a second acquire is DFM_ERROR_BUSY. Other vertices
+ * keep their rest positions and normals (dfm_mesh_read_positions). */
+DFM_API dfm_result dfm_session_acquire_frame(dfm_session* session, dfm_frame_view* out,
+                                             dfm_frame_info* info);
+
+/* Gives the held frame back. DFM_ERROR_INVALID_ARGUMENT when none is held. */
+DFM_API dfm_result dfm_session_release_frame(dfm_session* session);
+
 /* Bakes the newest finished frame into the mesh's rest pose (undoable with
  * dfm_mesh_undo_bake), then restarts the session on the new rest pose with
  * the same ROI and groups and identity transforms. DFM_ERROR_BUSY when the
- * mesh has changed since the session was created (another bake or an undo).
+ * mesh has changed since the session was created (another bake or an undo),
+ * or while a frame is held (dfm_session_acquire_frame).
  * Not concurrent with other calls on the session. */
 DFM_API dfm_result dfm_session_bake(dfm_session* session);
 
