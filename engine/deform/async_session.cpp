@@ -163,8 +163,15 @@ void AsyncSession::run_worker() {
             interrupt_.store(false, std::memory_order_release);
         }
         // The targets were checked when they were queued; a breakdown is
-        // published as the frame's status.
-        static_cast<void>(solve_and_publish(worker_targets_, generation, &interrupt_));
+        // published as the frame's status. Nothing may escape the thread:
+        // an exception here would terminate the host.
+        try {
+            static_cast<void>(solve_and_publish(worker_targets_, generation, &interrupt_));
+        } catch (const std::bad_alloc&) {
+            publish_failure(generation, Errc::out_of_memory);
+        } catch (...) {
+            publish_failure(generation, Errc::numerical);
+        }
     }
 }
 
@@ -193,6 +200,13 @@ Status AsyncSession::solve_and_publish(std::span<const glm::dvec3> targets,
     if (report.interrupted) return Status::ok();
     publish(generation, report, solved.code(), false);
     return solved;
+}
+
+void AsyncSession::publish_failure(std::uint64_t generation, Errc status) {
+    std::lock_guard<std::mutex> solving(solve_mutex_);
+    SolveReport report;
+    read([&](const Frame& newest) { report = newest.report; });
+    publish(generation, report, status, false);
 }
 
 const Frame* AsyncSession::acquire() {

@@ -128,6 +128,9 @@ private:
                              const std::atomic<bool>* interrupt);
     void publish(std::uint64_t generation, const SolveReport& report, Errc status,
                  bool partial);
+    // Publishes the session's last good positions with a failure status, so
+    // a host waiting for `generation` hears of it.
+    void publish_failure(std::uint64_t generation, Errc status);
 
     std::unique_ptr<DeformSession> session_;
     const MeshModel& model_;
