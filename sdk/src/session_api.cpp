@@ -134,12 +134,19 @@ extern "C" DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_sessi
             return report(fn, s);
         }
         dfm_session* session = host_new<dfm_session>(*mesh->state->context, Kind::session);
-        session->mesh = mesh->state;
-        session->roi = desc->roi->vertices;
-        session->groups = std::move(groups);
-        session->group_offsets = std::move(offsets);
-        session->settings = settings;
-        install(*session, std::move(engine), model);
+        // Filling the session allocates too; a failure there must not leave
+        // a registered, half-built handle behind.
+        try {
+            session->mesh = mesh->state;
+            session->roi = desc->roi->vertices;
+            session->groups = std::move(groups);
+            session->group_offsets = std::move(offsets);
+            session->settings = settings;
+            install(*session, std::move(engine), model);
+        } catch (...) {
+            host_delete(session);
+            throw;
+        }
         *out = session;
         return DFM_OK;
     });
@@ -397,8 +404,7 @@ extern "C" DFM_API dfm_result dfm_session_read_roi_positions(dfm_session* sessio
     return DFM_OK;
 }
 
-extern "C" DFM_API dfm_result dfm_session_acquire_frame(dfm_session* session,
-                                                        dfm_frame_view* out,
+extern "C" DFM_API dfm_result dfm_session_acquire_frame(dfm_session* session, dfm_frame_view* out,
                                                         dfm_frame_info* info) {
     constexpr const char* fn = "dfm_session_acquire_frame";
     if (info != nullptr) *info = dfm_frame_info{};
