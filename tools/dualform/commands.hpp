@@ -19,6 +19,8 @@ int run_deform(std::span<const std::string_view> args);
 int run_bench(std::span<const std::string_view> args);
 int run_pick(std::span<const std::string_view> args);
 int run_roi(std::span<const std::string_view> args);
+// Built with the renderer only; otherwise main says the renderer is missing.
+int run_render(std::span<const std::string_view> args);
 
 // Reads a preconditioner's name as preconditioner_name() writes it.
 bool parse_preconditioner(std::string_view name, deform::Preconditioner& out);

@@ -31,6 +31,13 @@ constexpr const char* help_text =
     "                         --bench N times N picks instead)\n"
     "  roi SCENARIO --out TXT write the scenario's ROI, one vertex a line; prints its size\n"
     "                         and, for Water-Filling, the cut-loop diagnosis as JSON\n"
+    "  render (SCENARIO|MESH) --png OUT [--camera JSON] [--width W --height H]\n"
+    "         [--before-after] [--wireframe] [--flat] [--samples 1|2|4] [--bench N]\n"
+    "                         draw a mesh, or a scenario's result with its ROI red and\n"
+    "                         handles green, into a PNG (Vulkan, headless);\n"
+    "                         --before-after: rest and deformed side by side;\n"
+    "                         --samples: MSAA at most (default 4, where the device has it);\n"
+    "                         --bench N: time N frames with the position upload (JSON out)\n"
     "  help                   print this text\n"
     "\n"
     "exit codes: 0 success, 2 bad input (error: ... on stderr), 1 the work failed\n"
@@ -56,6 +63,15 @@ int main(int argc, char** argv) {
         if (command == "bench") return run_bench(args);
         if (command == "pick") return run_pick(args);
         if (command == "roi") return run_roi(args);
+        if (command == "render") {
+#ifdef DUALFORM_HAS_RENDER
+            return run_render(args);
+#else
+            return bad_input(
+                "render: this dualform was built without the Vulkan renderer "
+                "(configure with -DDUALFORM_BUILD_RENDER=ON)");
+#endif
+        }
         if (command == "help" || command == "--help" || command == "-h") {
             std::fputs(help_text, stdout);
             return exit_ok;

@@ -1,0 +1,33 @@
+#pragma once
+
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "render/render_status.hpp"
+#include "render/validation.hpp"
+
+namespace dfm::render {
+
+// A Vulkan 1.3 instance the renderer owns, with the validation layer and a
+// messenger feeding `counter` when validation is on. Move-only.
+class Instance {
+public:
+    Instance() = default;
+    Instance(const Instance&) = delete;
+    Instance& operator=(const Instance&) = delete;
+    ~Instance();
+
+    // `extensions`: what the surface needs (GLFW's list), empty when headless.
+    // `counter` must outlive the instance.
+    static RenderStatus create(const std::vector<const char*>& extensions, bool validation,
+                               ValidationCounter& counter, Instance& out);
+
+    VkInstance handle() const { return instance_; }
+
+private:
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+};
+
+}  // namespace dfm::render

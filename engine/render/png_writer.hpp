@@ -1,0 +1,16 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "render/render_status.hpp"
+
+namespace dfm::render {
+
+// Writes an 8-bit RGBA picture (rows top to bottom, width × height × 4
+// bytes) as a PNG file with libpng.
+RenderStatus write_png(const std::string& path, std::span<const std::uint8_t> rgba,
+                       std::uint32_t width, std::uint32_t height);
+
+}  // namespace dfm::render

@@ -1,0 +1,342 @@
+#include "render/renderer.hpp"
+
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+
+#include <algorithm>
+#include <cstring>
+#include <utility>
+
+namespace dfm::render {
+
+namespace {
+
+constexpr VkFormat offscreen_color = VK_FORMAT_R8G8B8A8_UNORM;
+constexpr VkFormat depth_format = VK_FORMAT_D32_SFLOAT;
+
+}  // namespace
+
+Renderer::~Renderer() {
+    if (gpu_.device != VK_NULL_HANDLE) {
+        // On a host's device only our queue is waited for: the host's other
+        // work is none of ours.
+        if (owns_device()) {
+            vkDeviceWaitIdle(gpu_.device);
+        } else {
+            vkQueueWaitIdle(gpu_.queue);
+        }
+    }
+    swapchain_.reset();
+    if (surface_ != VK_NULL_HANDLE) vkDestroySurfaceKHR(instance_.handle(), surface_, nullptr);
+}
+
+RenderStatus Renderer::create_own(const OwnDeviceOptions& options,
+                                  const std::vector<const char*>& surface_extensions,
+                                  GLFWwindow* window) {
+    if (RenderStatus s =
+            Instance::create(surface_extensions, options.validation, *counter_, instance_);
+        !s) {
+        return s;
+    }
+    if (window != nullptr) {
+        if (VkResult r = glfwCreateWindowSurface(instance_.handle(), window, nullptr, &surface_);
+            r != VK_SUCCESS) {
+            surface_ = VK_NULL_HANDLE;
+            return vk_failure(r, "glfwCreateWindowSurface");
+        }
+        window_ = window;
+    }
+    if (RenderStatus s = Device::create(instance_.handle(), surface_, owned_device_); !s) return s;
+    gpu_ = owned_device_.gpu();
+    vsync_ = options.vsync;
+    formats_.color = offscreen_color;
+    formats_.depth = depth_format;
+    formats_.samples = std::min(best_sample_count(gpu_.physical), options.max_samples);
+    if (window != nullptr) {
+        if (RenderStatus s = Swapchain::choose_format(gpu_, surface_, surface_format_); !s) {
+            return s;
+        }
+        formats_.color = surface_format_.format;
+    }
+    if (RenderStatus s = frames_.create(gpu_, uploader_.slot_count()); !s) return s;
+    return pipelines_.create(gpu_.device, formats_, gpu_.wireframe);
+}
+
+RenderStatus Renderer::create_headless(const OwnDeviceOptions& options,
+                                       std::unique_ptr<Renderer>& out) {
+    if (options.frames_in_flight == 0 || options.frames_in_flight > 8) {
+        return RenderStatus(Fault::invalid_argument, "frames_in_flight must lie in 1..8");
+    }
+    std::unique_ptr<Renderer> r(new Renderer(options.frames_in_flight));
+    if (RenderStatus s = r->create_own(options, {}, nullptr); !s) return s;
+    out = std::move(r);
+    return RenderStatus::ok();
+}
+
+RenderStatus Renderer::create_window(const OwnDeviceOptions& options, GLFWwindow* window,
+                                     std::unique_ptr<Renderer>& out) {
+    if (window == nullptr) return RenderStatus(Fault::invalid_argument, "window is NULL");
+    if (options.frames_in_flight == 0 || options.frames_in_flight > 8) {
+        return RenderStatus(Fault::invalid_argument, "frames_in_flight must lie in 1..8");
+    }
+    if (glfwVulkanSupported() != GLFW_TRUE) {
+        return RenderStatus(Fault::unsupported,
+                            "GLFW finds no Vulkan loader or no surface support");
+    }
+    std::uint32_t count = 0;
+    const char** names = glfwGetRequiredInstanceExtensions(&count);
+    if (names == nullptr) {
+        return RenderStatus(Fault::unsupported, "GLFW cannot name the surface extensions");
+    }
+    std::unique_ptr<Renderer> r(new Renderer(options.frames_in_flight));
+    if (RenderStatus s =
+            r->create_own(options, std::vector<const char*>(names, names + count), window);
+        !s) {
+        return s;
+    }
+    out = std::move(r);
+    return RenderStatus::ok();
+}
+
+RenderStatus Renderer::create_host(const HostDevice& host, std::unique_ptr<Renderer>& out) {
+    if (host.frames_in_flight == 0 || host.frames_in_flight > 8) {
+        return RenderStatus(Fault::invalid_argument, "frames_in_flight must lie in 1..8");
+    }
+    if (host.formats.color == VK_FORMAT_UNDEFINED) {
+        return RenderStatus(Fault::invalid_argument, "the host's colour format is needed");
+    }
+    std::unique_ptr<Renderer> r(new Renderer(host.frames_in_flight));
+    r->gpu_ = host.gpu;
+    if (RenderStatus s = describe_host_gpu(r->gpu_); !s) {
+        r->gpu_.device = VK_NULL_HANDLE;
+        return s;
+    }
+    r->formats_ = host.formats;
+    if (RenderStatus s = r->pipelines_.create(r->gpu_.device, r->formats_, r->gpu_.wireframe); !s) {
+        return s;
+    }
+    out = std::move(r);
+    return RenderStatus::ok();
+}
+
+RenderStatus Renderer::check_usable() const {
+    if (failed_) {
+        return RenderStatus(Fault::device,
+                            "the renderer is unusable after an earlier device failure");
+    }
+    return RenderStatus::ok();
+}
+
+RenderStatus Renderer::broken(RenderStatus status) {
+    if (!status) failed_ = true;
+    return status;
+}
+
+RenderStatus Renderer::wait_idle() const {
+    const VkResult r = owns_device() ? vkDeviceWaitIdle(gpu_.device) : vkQueueWaitIdle(gpu_.queue);
+    return r == VK_SUCCESS ? RenderStatus::ok() : vk_failure(r, "waiting for the device");
+}
+
+RenderStatus Renderer::set_mesh(const StridedPositions& positions,
+                                std::span<const std::uint32_t> triangle_indices) {
+    if (RenderStatus s = check_usable(); !s) return s;
+    SceneData next = scene_;
+    if (RenderStatus s = next.set_mesh(positions, triangle_indices); !s) return s;
+    // The index buffer is replaced, so no frame may still read the old one.
+    if (RenderStatus s = wait_idle(); !s) return broken(s);
+    GpuBuffer indices;
+    if (RenderStatus s = GpuBuffer::create(gpu_, next.indices().size_bytes(),
+                                           VK_BUFFER_USAGE_INDEX_BUFFER_BIT, true, indices);
+        !s) {
+        return s;
+    }
+    std::memcpy(indices.mapped(), next.indices().data(), next.indices().size_bytes());
+    indices_ = std::move(indices);
+    scene_ = std::move(next);
+    return RenderStatus::ok();
+}
+
+RenderStatus Renderer::set_positions(const StridedPositions& positions) {
+    return scene_.set_positions(positions);
+}
+
+RenderStatus Renderer::set_marks(std::span<const std::uint8_t> marks) {
+    if (!scene_.has_mesh()) return RenderStatus(Fault::invalid_argument, "marks: no mesh set");
+    return scene_.set_marks(marks);
+}
+
+RenderStatus Renderer::set_lines(std::span<const Polyline> lines) {
+    return scene_.set_lines(lines);
+}
+
+DrawBuffers Renderer::draw_buffers(std::size_t slot) const {
+    DrawBuffers b;
+    b.mesh_vertices = uploader_.mesh_vertices(slot);
+    b.line_vertices = uploader_.line_vertices(slot);
+    b.indices = indices_.handle();
+    b.index_count = scene_.has_mesh() ? scene_.index_count() : 0;
+    b.line_vertex_count = static_cast<std::uint32_t>(scene_.line_vertices().size());
+    return b;
+}
+
+RenderStatus Renderer::render_offscreen(const ViewSettings& view, std::span<std::uint8_t> rgba) {
+    if (RenderStatus s = check_usable(); !s) return s;
+    if (!owns_device()) {
+        return RenderStatus(Fault::unsupported,
+                            "offscreen rendering needs a renderer with its own device; a host "
+                            "device records into its own command buffers");
+    }
+    const VkExtent2D extent{view.camera.width, view.camera.height};
+    if (extent.width == 0 || extent.height == 0 || extent.width > 16384 || extent.height > 16384) {
+        return RenderStatus(Fault::invalid_argument,
+                            "camera width and height must lie in 1..16384");
+    }
+    if (!rgba.empty() && rgba.size() != std::size_t{extent.width} * extent.height * 4) {
+        return RenderStatus(Fault::invalid_argument,
+                            "the pixel buffer must hold width x height x 4 bytes");
+    }
+    if (!offscreen_ || offscreen_->extent().width != extent.width ||
+        offscreen_->extent().height != extent.height) {
+        if (RenderStatus s = wait_idle(); !s) return broken(s);
+        OffscreenTarget target;
+        if (RenderStatus s = OffscreenTarget::create(gpu_, formats_, extent, target); !s) return s;
+        offscreen_ = std::move(target);
+    }
+    if (RenderStatus s = frames_.wait_current(); !s) return broken(s);
+    const std::size_t slot = frames_.current();
+    if (RenderStatus s = uploader_.stage(gpu_, slot, scene_); !s) return s;
+    if (RenderStatus s = frames_.begin_current(); !s) return broken(s);
+    const VkCommandBuffer cmd = frames_.command_buffer();
+    uploader_.record_copy(cmd, slot);
+    offscreen_->record_begin(cmd, &view.background[0]);
+    record_scene_draw(cmd, pipelines_, draw_buffers(slot), view, scene_.bounds(), extent);
+    offscreen_->record_end_and_copy(cmd);
+    if (RenderStatus s = frames_.submit_current(VK_NULL_HANDLE, VK_NULL_HANDLE); !s) {
+        return broken(s);
+    }
+    if (!rgba.empty()) {
+        if (RenderStatus s = frames_.wait_current(); !s) return broken(s);
+        const std::span<const std::uint8_t> picture = offscreen_->pixels();
+        std::memcpy(rgba.data(), picture.data(), picture.size());
+        // A window renderer draws in its swapchain's format, which may be
+        // BGRA; the caller always gets RGBA.
+        if (formats_.color == VK_FORMAT_B8G8R8A8_UNORM ||
+            formats_.color == VK_FORMAT_B8G8R8A8_SRGB) {
+            for (std::size_t i = 0; i + 3 < rgba.size(); i += 4) std::swap(rgba[i], rgba[i + 2]);
+        }
+    }
+    frames_.advance();
+    return RenderStatus::ok();
+}
+
+RenderStatus Renderer::rebuild_swapchain(bool& usable) {
+    usable = false;
+    int width = 0;
+    int height = 0;
+    glfwGetFramebufferSize(window_, &width, &height);
+    if (width <= 0 || height <= 0) return RenderStatus::ok();
+    if (RenderStatus s = wait_idle(); !s) return s;
+    swapchain_.reset();
+    auto next = std::make_unique<Swapchain>();
+    if (RenderStatus s = Swapchain::create(
+            gpu_, surface_, formats_, surface_format_,
+            {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height)}, vsync_, *next);
+        !s) {
+        return s;
+    }
+    swapchain_ = std::move(next);
+    usable = true;
+    return RenderStatus::ok();
+}
+
+RenderStatus Renderer::present(const ViewSettings& view, bool& presented) {
+    presented = false;
+    if (RenderStatus s = check_usable(); !s) return s;
+    if (window_ == nullptr) {
+        return RenderStatus(Fault::unsupported, "present needs a renderer made for a window");
+    }
+    int width = 0;
+    int height = 0;
+    glfwGetFramebufferSize(window_, &width, &height);
+    if (width <= 0 || height <= 0) return RenderStatus::ok();  // minimised
+    if (!swapchain_ || swapchain_->extent().width != static_cast<std::uint32_t>(width) ||
+        swapchain_->extent().height != static_cast<std::uint32_t>(height)) {
+        bool usable = false;
+        if (RenderStatus s = rebuild_swapchain(usable); !s) return broken(s);
+        if (!usable) return RenderStatus::ok();
+    }
+    if (RenderStatus s = frames_.wait_current(); !s) return broken(s);
+    std::uint32_t image = 0;
+    const VkResult acquired = vkAcquireNextImageKHR(gpu_.device, swapchain_->handle(), UINT64_MAX,
+                                                    frames_.acquired(), VK_NULL_HANDLE, &image);
+    if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
+        bool usable = false;
+        return broken(rebuild_swapchain(usable));
+    }
+    if (acquired != VK_SUCCESS && acquired != VK_SUBOPTIMAL_KHR) {
+        return broken(vk_failure(acquired, "vkAcquireNextImageKHR"));
+    }
+    const std::size_t slot = frames_.current();
+    if (RenderStatus s = uploader_.stage(gpu_, slot, scene_); !s) return s;
+    if (RenderStatus s = frames_.begin_current(); !s) return broken(s);
+    const VkCommandBuffer cmd = frames_.command_buffer();
+    uploader_.record_copy(cmd, slot);
+    swapchain_->record_begin(cmd, image, &view.background[0]);
+    record_scene_draw(cmd, pipelines_, draw_buffers(slot), view, scene_.bounds(),
+                      swapchain_->extent());
+    swapchain_->record_end(cmd, image);
+    const VkSemaphore rendered = swapchain_->rendered(image);
+    if (RenderStatus s = frames_.submit_current(frames_.acquired(), rendered); !s) {
+        return broken(s);
+    }
+    frames_.advance();
+
+    const VkSwapchainKHR handle = swapchain_->handle();
+    VkPresentInfoKHR info{};
+    info.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR;
+    info.waitSemaphoreCount = 1;
+    info.pWaitSemaphores = &rendered;
+    info.swapchainCount = 1;
+    info.pSwapchains = &handle;
+    info.pImageIndices = &image;
+    const VkResult shown = vkQueuePresentKHR(gpu_.queue, &info);
+    if (shown == VK_ERROR_OUT_OF_DATE_KHR || shown == VK_SUBOPTIMAL_KHR) {
+        bool usable = false;
+        return broken(rebuild_swapchain(usable));
+    }
+    if (shown != VK_SUCCESS) return broken(vk_failure(shown, "vkQueuePresentKHR"));
+    presented = true;
+    return RenderStatus::ok();
+}
+
+RenderStatus Renderer::record_upload(VkCommandBuffer cmd) {
+    if (owns_device()) {
+        return RenderStatus(Fault::unsupported,
+                            "record_upload is for renderers on a host's device");
+    }
+    if (cmd == VK_NULL_HANDLE)
+        return RenderStatus(Fault::invalid_argument, "command buffer is NULL");
+    host_slot_ = (host_slot_ + 1) % uploader_.slot_count();
+    if (RenderStatus s = uploader_.stage(gpu_, host_slot_, scene_); !s) return s;
+    uploader_.record_copy(cmd, host_slot_);
+    return RenderStatus::ok();
+}
+
+RenderStatus Renderer::record_draw(VkCommandBuffer cmd, const ViewSettings& view,
+                                   VkExtent2D extent) {
+    if (owns_device()) {
+        return RenderStatus(Fault::unsupported, "record_draw is for renderers on a host's device");
+    }
+    if (cmd == VK_NULL_HANDLE)
+        return RenderStatus(Fault::invalid_argument, "command buffer is NULL");
+    if (extent.width == 0 || extent.height == 0) {
+        return RenderStatus(Fault::invalid_argument, "the extent must be non-empty");
+    }
+    if (uploader_.mesh_vertices(host_slot_) == VK_NULL_HANDLE) {
+        return RenderStatus(Fault::invalid_argument, "record_upload must come before record_draw");
+    }
+    record_scene_draw(cmd, pipelines_, draw_buffers(host_slot_), view, scene_.bounds(), extent);
+    return RenderStatus::ok();
+}
+
+}  // namespace dfm::render

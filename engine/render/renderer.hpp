@@ -1,0 +1,125 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "render/command_frames.hpp"
+#include "render/device.hpp"
+#include "render/frame_uploader.hpp"
+#include "render/gpu_memory.hpp"
+#include "render/instance.hpp"
+#include "render/offscreen_target.hpp"
+#include "render/pipelines.hpp"
+#include "render/scene_data.hpp"
+#include "render/scene_draw.hpp"
+#include "render/swapchain.hpp"
+#include "render/validation.hpp"
+
+struct GLFWwindow;
+
+namespace dfm::render {
+
+// Settings of a renderer that creates its own instance and device.
+struct OwnDeviceOptions {
+    std::size_t frames_in_flight = 2;
+    // Upper bound on MSAA; the device's best up to this is used.
+    VkSampleCountFlagBits max_samples = VK_SAMPLE_COUNT_4_BIT;
+    bool validation = false;
+    bool vsync = true;  // window path
+};
+
+// Handles a host created, and what the host renders into.
+struct HostDevice {
+    Gpu gpu;  // instance, physical, device, queue_family, queue; wireframe:
+              // whether the host enabled fillModeNonSolid
+    AttachmentFormats formats;
+    std::size_t frames_in_flight = 2;
+};
+
+// Draws a mesh with its ROI / handle / fixed highlight, a wireframe and host
+// lines. Three ways in: headless (own device, offscreen picture read back),
+// a GLFW window (own device, swapchain), or a host's device (the draw is
+// recorded into the host's command buffer inside the host's dynamic
+// rendering). Not thread-safe: one thread at a time.
+class Renderer {
+public:
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+    ~Renderer();
+
+    static RenderStatus create_headless(const OwnDeviceOptions& options,
+                                        std::unique_ptr<Renderer>& out);
+    // GLFW must be initialised and the window created with GLFW_NO_API.
+    static RenderStatus create_window(const OwnDeviceOptions& options, GLFWwindow* window,
+                                      std::unique_ptr<Renderer>& out);
+    static RenderStatus create_host(const HostDevice& host, std::unique_ptr<Renderer>& out);
+
+    RenderStatus set_mesh(const StridedPositions& positions,
+                          std::span<const std::uint32_t> triangle_indices);
+    RenderStatus set_positions(const StridedPositions& positions);
+    RenderStatus set_marks(std::span<const std::uint8_t> marks);
+    RenderStatus set_lines(std::span<const Polyline> lines);
+    const SceneData& scene() const { return scene_; }
+
+    // Draws a camera.width × camera.height picture offscreen. With `rgba`
+    // (width × height × 4 bytes) it waits and reads the picture back; empty,
+    // it returns once the frame is submitted (frames stay in flight).
+    RenderStatus render_offscreen(const ViewSettings& view, std::span<std::uint8_t> rgba);
+
+    // Window path: draws and presents one frame at the window's framebuffer
+    // size (the camera's width and height are ignored). `presented` is false
+    // when the window is minimised or the swapchain had to be rebuilt.
+    RenderStatus present(const ViewSettings& view, bool& presented);
+
+    // Host path: the vertex upload (outside rendering), then the draw (inside
+    // the host's dynamic rendering of `extent`). Each record_upload moves to
+    // the next of frames_in_flight buffer sets; the host guarantees the GPU
+    // finished the command buffer recorded frames_in_flight uploads ago.
+    RenderStatus record_upload(VkCommandBuffer cmd);
+    RenderStatus record_draw(VkCommandBuffer cmd, const ViewSettings& view, VkExtent2D extent);
+
+    // Validation warnings and errors seen so far (own-device modes).
+    std::uint64_t validation_messages() const { return counter_->count(); }
+    VkSampleCountFlagBits samples() const { return formats_.samples; }
+    bool owns_device() const { return owned_device_.gpu().device != VK_NULL_HANDLE; }
+
+private:
+    explicit Renderer(std::size_t frames_in_flight) : uploader_(frames_in_flight) {}
+
+    RenderStatus create_own(const OwnDeviceOptions& options,
+                            const std::vector<const char*>& surface_extensions, GLFWwindow* window);
+    RenderStatus wait_idle() const;
+    RenderStatus rebuild_swapchain(bool& usable);
+    RenderStatus check_usable() const;
+    // Remembers that the device failed mid-frame: later calls refuse to run.
+    RenderStatus broken(RenderStatus status);
+    DrawBuffers draw_buffers(std::size_t slot) const;
+
+    // Declaration order is destruction order reversed: everything made from
+    // the device goes before it, the surface before the instance.
+    std::unique_ptr<ValidationCounter> counter_ = std::make_unique<ValidationCounter>();
+    Instance instance_;
+    VkSurfaceKHR surface_ = VK_NULL_HANDLE;
+    GLFWwindow* window_ = nullptr;
+    Device owned_device_;
+    Gpu gpu_;
+    AttachmentFormats formats_;
+    VkSurfaceFormatKHR surface_format_{};
+    bool vsync_ = true;
+    bool failed_ = false;
+    std::size_t host_slot_ = 0;
+    CommandFrames frames_;
+    Pipelines pipelines_;
+    FrameUploader uploader_;
+    GpuBuffer indices_;
+    std::optional<OffscreenTarget> offscreen_;
+    std::unique_ptr<Swapchain> swapchain_;
+    SceneData scene_;
+};
+
+}  // namespace dfm::render

@@ -1,0 +1,384 @@
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+#include "dualform/dualform_vulkan.h"
+#include "pick/camera.hpp"
+#include "render/png_writer.hpp"
+#include "render/renderer.hpp"
+#include "render/validation.hpp"
+#include "render/view_transform.hpp"
+#include "vulkan_boundary.hpp"
+
+// A handle carries a tag, so a destroyed or foreign pointer is caught where
+// the memory still holds it.
+struct dfm_vk_renderer {
+    static constexpr std::uint64_t live_tag = 0x6466'6d5f'766b'7231ULL;
+    std::uint64_t tag = live_tag;
+    std::unique_ptr<dfm::render::Renderer> impl;
+};
+
+namespace {
+
+using dfm::sdk::fail;
+using dfm::sdk::guarded;
+using dfm::sdk::report;
+using dfm::sdk::report_render;
+namespace render = dfm::render;
+
+bool live(const dfm_vk_renderer* r) {
+    return r != nullptr && r->tag == dfm_vk_renderer::live_tag && r->impl;
+}
+
+dfm_result bad_handle(const char* function) {
+    return report(function, DFM_ERROR_INVALID_HANDLE, "renderer is NULL or destroyed");
+}
+
+render::StridedPositions to_strided(const dfm_vec3_input& p) {
+    return render::StridedPositions{p.data, p.count, p.stride, p.type == DFM_SCALAR_FLOAT64};
+}
+
+dfm_result check_scalar(const char* function, const dfm_vec3_input& p) {
+    if (p.type != DFM_SCALAR_FLOAT64 && p.type != DFM_SCALAR_FLOAT32) {
+        return report(function, DFM_ERROR_INVALID_ARGUMENT,
+                      "positions.type must be DFM_SCALAR_FLOAT64 or DFM_SCALAR_FLOAT32");
+    }
+    return DFM_OK;
+}
+
+render::OwnDeviceOptions own_options(const char* function, const dfm_vk_renderer_desc* desc,
+                                     dfm_result& result) {
+    render::OwnDeviceOptions options;
+    options.validation = render::validation_requested();
+    result = DFM_OK;
+    if (desc == nullptr) return options;
+    if (desc->frames_in_flight != 0) options.frames_in_flight = desc->frames_in_flight;
+    switch (desc->max_samples) {
+        case 0:
+        case 4: options.max_samples = VK_SAMPLE_COUNT_4_BIT; break;
+        case 2: options.max_samples = VK_SAMPLE_COUNT_2_BIT; break;
+        case 1: options.max_samples = VK_SAMPLE_COUNT_1_BIT; break;
+        default:
+            result =
+                report(function, DFM_ERROR_INVALID_ARGUMENT, "max_samples must be 0, 1, 2 or 4");
+    }
+    options.vsync = !desc->no_vsync;
+    return options;
+}
+
+// The frame as the renderer takes it; the camera's size is `extent` when
+// given (window and host paths), the camera's own otherwise.
+dfm_result to_view(const char* function, const dfm_vk_frame* frame, std::uint32_t width,
+                   std::uint32_t height, render::ViewSettings& view) {
+    if (frame == nullptr) return report(function, DFM_ERROR_INVALID_ARGUMENT, "frame is NULL");
+    if (frame->flags & ~(DFM_VK_FLAG_WIREFRAME | DFM_VK_FLAG_FLAT)) {
+        return report(function, DFM_ERROR_INVALID_ARGUMENT, "frame.flags has unknown bits");
+    }
+    const dfm_camera& c = frame->camera;
+    view.camera =
+        dfm::pick::Camera{{c.eye[0], c.eye[1], c.eye[2]}, {c.target[0], c.target[1], c.target[2]},
+                          {c.up[0], c.up[1], c.up[2]},    c.fov_y_degrees,
+                          width != 0 ? width : c.width,   height != 0 ? height : c.height};
+    if (dfm::Status s = dfm::pick::check_camera(view.camera); !s) {
+        return report(function, DFM_ERROR_INVALID_ARGUMENT, s.message());
+    }
+    view.wireframe = (frame->flags & DFM_VK_FLAG_WIREFRAME) != 0;
+    view.flat = (frame->flags & DFM_VK_FLAG_FLAT) != 0;
+    const float* bg = frame->background;
+    if (bg[0] != 0.0f || bg[1] != 0.0f || bg[2] != 0.0f || bg[3] != 0.0f) {
+        view.background = {bg[0], bg[1], bg[2], bg[3]};
+    }
+    return DFM_OK;
+}
+
+dfm_result wrap(std::unique_ptr<render::Renderer> impl, dfm_vk_renderer** out) {
+    auto handle = std::make_unique<dfm_vk_renderer>();
+    handle->impl = std::move(impl);
+    *out = handle.release();
+    return DFM_OK;
+}
+
+}  // namespace
+
+extern "C" {
+
+DFM_API dfm_result dfm_vk_renderer_create_headless(const dfm_vk_renderer_desc* desc,
+                                                   dfm_vk_renderer** out) {
+    const char* fn = "dfm_vk_renderer_create_headless";
+    return guarded(fn, [&]() -> dfm_result {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = nullptr;
+        dfm_result checked = DFM_OK;
+        const render::OwnDeviceOptions options = own_options(fn, desc, checked);
+        if (checked != DFM_OK) return checked;
+        std::unique_ptr<render::Renderer> impl;
+        if (render::RenderStatus s = render::Renderer::create_headless(options, impl); !s) {
+            return report_render(fn, s);
+        }
+        return wrap(std::move(impl), out);
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_create_window(const dfm_vk_renderer_desc* desc,
+                                                 void* glfw_window, dfm_vk_renderer** out) {
+    const char* fn = "dfm_vk_renderer_create_window";
+    return guarded(fn, [&]() -> dfm_result {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = nullptr;
+        if (glfw_window == nullptr) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "glfw_window is NULL");
+        }
+        dfm_result checked = DFM_OK;
+        const render::OwnDeviceOptions options = own_options(fn, desc, checked);
+        if (checked != DFM_OK) return checked;
+        std::unique_ptr<render::Renderer> impl;
+        if (render::RenderStatus s = render::Renderer::create_window(
+                options, static_cast<GLFWwindow*>(glfw_window), impl);
+            !s) {
+            return report_render(fn, s);
+        }
+        return wrap(std::move(impl), out);
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_create_host(const dfm_vk_host_desc* desc,
+                                               dfm_vk_renderer** out) {
+    const char* fn = "dfm_vk_renderer_create_host";
+    return guarded(fn, [&]() -> dfm_result {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = nullptr;
+        if (desc == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "desc is NULL");
+        if (desc->samples != 0 && desc->samples != VK_SAMPLE_COUNT_1_BIT &&
+            desc->samples != VK_SAMPLE_COUNT_2_BIT && desc->samples != VK_SAMPLE_COUNT_4_BIT &&
+            desc->samples != VK_SAMPLE_COUNT_8_BIT) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "samples must be 0, 1, 2, 4 or 8");
+        }
+        render::HostDevice host;
+        host.gpu.instance = desc->instance;
+        host.gpu.physical = desc->physical_device;
+        host.gpu.device = desc->device;
+        host.gpu.queue_family = desc->queue_family;
+        host.gpu.queue = desc->queue;
+        host.gpu.wireframe = desc->fill_mode_non_solid;
+        host.formats.color = desc->color_format;
+        host.formats.depth = desc->depth_format;
+        host.formats.samples = desc->samples == 0 ? VK_SAMPLE_COUNT_1_BIT : desc->samples;
+        if (desc->frames_in_flight != 0) host.frames_in_flight = desc->frames_in_flight;
+        std::unique_ptr<render::Renderer> impl;
+        if (render::RenderStatus s = render::Renderer::create_host(host, impl); !s) {
+            return report_render(fn, s);
+        }
+        return wrap(std::move(impl), out);
+    });
+}
+
+DFM_API void dfm_vk_renderer_destroy(dfm_vk_renderer* renderer) {
+    if (!live(renderer)) return;
+    renderer->tag = 0;
+    delete renderer;
+}
+
+DFM_API dfm_result dfm_vk_renderer_set_mesh(dfm_vk_renderer* renderer,
+                                            const dfm_vec3_input* positions,
+                                            const uint32_t* triangle_indices,
+                                            size_t triangle_count) {
+    const char* fn = "dfm_vk_renderer_set_mesh";
+    return guarded(fn, [&]() -> dfm_result {
+        if (!live(renderer)) return bad_handle(fn);
+        if (positions == nullptr || triangle_indices == nullptr) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "positions or indices are NULL");
+        }
+        if (dfm_result r = check_scalar(fn, *positions); r != DFM_OK) return r;
+        if (triangle_count > SIZE_MAX / 3) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "triangle_count is too large");
+        }
+        return report_render(fn, renderer->impl->set_mesh(to_strided(*positions),
+                                                          {triangle_indices, triangle_count * 3}));
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_update_positions(dfm_vk_renderer* renderer,
+                                                    const dfm_vec3_input* positions) {
+    const char* fn = "dfm_vk_renderer_update_positions";
+    return guarded(fn, [&]() -> dfm_result {
+        if (!live(renderer)) return bad_handle(fn);
+        if (positions == nullptr)
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "positions is NULL");
+        if (dfm_result r = check_scalar(fn, *positions); r != DFM_OK) return r;
+        return report_render(fn, renderer->impl->set_positions(to_strided(*positions)));
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_set_marks(dfm_vk_renderer* renderer, const uint8_t* marks,
+                                             size_t count) {
+    const char* fn = "dfm_vk_renderer_set_marks";
+    return guarded(fn, [&]() -> dfm_result {
+        if (!live(renderer)) return bad_handle(fn);
+        if (marks == nullptr && count != 0) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "marks is NULL but count is not 0");
+        }
+        return report_render(
+            fn, renderer->impl->set_marks({marks, marks == nullptr ? std::size_t{0} : count}));
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_set_lines(dfm_vk_renderer* renderer,
+                                             const dfm_vk_polyline* lines, size_t count) {
+    const char* fn = "dfm_vk_renderer_set_lines";
+    return guarded(fn, [&]() -> dfm_result {
+        if (!live(renderer)) return bad_handle(fn);
+        if (lines == nullptr && count != 0) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "lines is NULL but count is not 0");
+        }
+        std::vector<render::Polyline> polylines(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            const dfm_vk_polyline& in = lines[i];
+            if (dfm_result r = check_scalar(fn, in.points); r != DFM_OK) return r;
+            if (in.points.count > 0 && in.points.data == nullptr) {
+                return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                              "lines[" + std::to_string(i) + "].points.data is NULL");
+            }
+            const render::StridedPositions points = to_strided(in.points);
+            const std::size_t triple = points.is_double ? 3 * sizeof(double) : 3 * sizeof(float);
+            if (points.stride != 0 && points.stride < triple) {
+                return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                              "lines[" + std::to_string(i) + "].points.stride is too small");
+            }
+            polylines[i].points.resize(points.count);
+            for (std::size_t p = 0; p < points.count; ++p) polylines[i].points[p] = points.at(p);
+            polylines[i].closed = in.closed;
+            const float* c = in.color;
+            if (c[0] != 0.0f || c[1] != 0.0f || c[2] != 0.0f || c[3] != 0.0f) {
+                polylines[i].color = {c[0], c[1], c[2], c[3]};
+            }
+        }
+        return report_render(fn, renderer->impl->set_lines(polylines));
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_render_offscreen(dfm_vk_renderer* renderer,
+                                                    const dfm_vk_frame* frame, uint8_t* rgba,
+                                                    size_t rgba_size) {
+    const char* fn = "dfm_vk_renderer_render_offscreen";
+    return guarded(fn, [&]() -> dfm_result {
+        if (!live(renderer)) return bad_handle(fn);
+        render::ViewSettings view;
+        if (dfm_result r = to_view(fn, frame, 0, 0, view); r != DFM_OK) return r;
+        if (rgba != nullptr &&
+            rgba_size != std::size_t{view.camera.width} * view.camera.height * 4) {
+            return report(
+                fn, DFM_ERROR_INVALID_ARGUMENT,
+                "rgba_size must be camera.width * camera.height * 4 = " +
+                    std::to_string(std::size_t{view.camera.width} * view.camera.height * 4));
+        }
+        return report_render(fn, renderer->impl->render_offscreen(
+                                     view, {rgba, rgba == nullptr ? std::size_t{0} : rgba_size}));
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_present(dfm_vk_renderer* renderer, const dfm_vk_frame* frame,
+                                           bool* presented) {
+    const char* fn = "dfm_vk_renderer_present";
+    return guarded(fn, [&]() -> dfm_result {
+        if (presented != nullptr) *presented = false;
+        if (!live(renderer)) return bad_handle(fn);
+        render::ViewSettings view;
+        // The real size comes from the window; 1x1 only lets the camera check pass.
+        if (dfm_result r = to_view(fn, frame, 1, 1, view); r != DFM_OK) return r;
+        bool shown = false;
+        if (render::RenderStatus s = renderer->impl->present(view, shown); !s) {
+            return report_render(fn, s);
+        }
+        if (presented != nullptr) *presented = shown;
+        return DFM_OK;
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_record_upload(dfm_vk_renderer* renderer, VkCommandBuffer cmd) {
+    const char* fn = "dfm_vk_renderer_record_upload";
+    return guarded(fn, [&]() -> dfm_result {
+        if (!live(renderer)) return bad_handle(fn);
+        return report_render(fn, renderer->impl->record_upload(cmd));
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_record_draw(dfm_vk_renderer* renderer, VkCommandBuffer cmd,
+                                               const dfm_vk_frame* frame, uint32_t width,
+                                               uint32_t height) {
+    const char* fn = "dfm_vk_renderer_record_draw";
+    return guarded(fn, [&]() -> dfm_result {
+        if (!live(renderer)) return bad_handle(fn);
+        if (width == 0 || height == 0) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "width and height must be positive");
+        }
+        render::ViewSettings view;
+        if (dfm_result r = to_view(fn, frame, width, height, view); r != DFM_OK) return r;
+        return report_render(fn, renderer->impl->record_draw(cmd, view, {width, height}));
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_validation_message_count(const dfm_vk_renderer* renderer,
+                                                            uint64_t* out) {
+    const char* fn = "dfm_vk_renderer_validation_message_count";
+    return guarded(fn, [&]() -> dfm_result {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = 0;
+        if (!live(renderer)) return bad_handle(fn);
+        *out = renderer->impl->validation_messages();
+        return DFM_OK;
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_sample_count(const dfm_vk_renderer* renderer, uint32_t* out) {
+    const char* fn = "dfm_vk_renderer_sample_count";
+    return guarded(fn, [&]() -> dfm_result {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = 0;
+        if (!live(renderer)) return bad_handle(fn);
+        *out = static_cast<uint32_t>(renderer->impl->samples());
+        return DFM_OK;
+    });
+}
+
+DFM_API dfm_result dfm_vk_framing_camera(const dfm_vec3_input* positions, uint32_t width,
+                                         uint32_t height, dfm_camera* out) {
+    const char* fn = "dfm_vk_framing_camera";
+    return guarded(fn, [&]() -> dfm_result {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        std::memset(out, 0, sizeof *out);
+        if (positions == nullptr || (positions->count > 0 && positions->data == nullptr)) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "positions are NULL");
+        }
+        if (dfm_result r = check_scalar(fn, *positions); r != DFM_OK) return r;
+        if (width == 0 || height == 0) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "width and height must be positive");
+        }
+        const render::StridedPositions points = to_strided(*positions);
+        std::vector<glm::dvec3> read(points.count);
+        for (std::size_t i = 0; i < points.count; ++i) read[i] = points.at(i);
+        const dfm::pick::Camera c = render::framing_camera(read, width, height);
+        for (int k = 0; k < 3; ++k) {
+            out->eye[k] = c.eye[k];
+            out->target[k] = c.target[k];
+            out->up[k] = c.up[k];
+        }
+        out->fov_y_degrees = c.fov_y_degrees;
+        out->width = c.width;
+        out->height = c.height;
+        return DFM_OK;
+    });
+}
+
+DFM_API dfm_result dfm_vk_write_png(const char* path, const uint8_t* rgba, size_t rgba_size,
+                                    uint32_t width, uint32_t height) {
+    const char* fn = "dfm_vk_write_png";
+    return guarded(fn, [&]() -> dfm_result {
+        if (path == nullptr || rgba == nullptr) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path or rgba is NULL");
+        }
+        return report_render(fn, render::write_png(path, {rgba, rgba_size}, width, height));
+    });
+}
+
+}  // extern "C"

@@ -1,0 +1,25 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/status.hpp"
+#include "mesh/mesh.hpp"
+
+namespace dfm::cli {
+
+// What `dualform render` draws: a mesh at rest and, for a scenario, its
+// deformed positions and the edit's marks (the renderer's values: 1 ROI,
+// 2 moving handle, 3 fixed anchor group).
+struct RenderScene {
+    mesh::Mesh rest;
+    std::vector<glm::dvec3> deformed;  // empty for a plain mesh
+    std::vector<std::uint8_t> marks;   // empty for a plain mesh
+};
+
+// A path ending in .json is a scenario, which is replayed; anything else is
+// a mesh (a path or model:NAME). Errors name the file and what is wrong.
+Status load_render_scene(const std::string& input, RenderScene& out);
+
+}  // namespace dfm::cli
