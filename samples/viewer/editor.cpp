@@ -1,0 +1,526 @@
+#include "editor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+namespace viewer {
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+using Matrix = std::array<double, 16>;
+
+Matrix identity() {
+    Matrix m{};
+    for (int i = 0; i < 4; ++i) m[5 * i] = 1.0;
+    return m;
+}
+
+Matrix multiply(const Matrix& a, const Matrix& b) {
+    Matrix r{};
+    for (int col = 0; col < 4; ++col) {
+        for (int row = 0; row < 4; ++row) {
+            double sum = 0.0;
+            for (int k = 0; k < 4; ++k) sum += a[4 * k + row] * b[4 * col + k];
+            r[4 * col + row] = sum;
+        }
+    }
+    return r;
+}
+
+Matrix translation(const Vec3& t) {
+    Matrix m = identity();
+    for (int c = 0; c < 3; ++c) m[12 + c] = t[c];
+    return m;
+}
+
+// Rotation by `angle` radians about the unit `axis` (Rodrigues).
+Matrix rotation(const Vec3& axis, double angle) {
+    const double c = std::cos(angle), s = std::sin(angle), t = 1.0 - c;
+    const double x = axis[0], y = axis[1], z = axis[2];
+    Matrix m = identity();
+    m[0] = t * x * x + c;
+    m[1] = t * x * y + s * z;
+    m[2] = t * x * z - s * y;
+    m[4] = t * x * y - s * z;
+    m[5] = t * y * y + c;
+    m[6] = t * y * z + s * x;
+    m[8] = t * x * z + s * y;
+    m[9] = t * y * z - s * x;
+    m[10] = t * z * z + c;
+    return m;
+}
+
+Vec3 apply(const Matrix& m, const Vec3& p) {
+    Vec3 r{};
+    for (int c = 0; c < 3; ++c) r[c] = m[c] * p[0] + m[4 + c] * p[1] + m[8 + c] * p[2] + m[12 + c];
+    return r;
+}
+
+}  // namespace
+
+Editor::Editor(dfm_context* context, dfm_vk_renderer* renderer)
+    : context_(context), renderer_(renderer) {}
+
+Editor::~Editor() {
+    dfm_session_destroy(session_);
+    dfm_roi_destroy(roi_);
+    dfm_mesh_destroy(mesh_);
+}
+
+bool Editor::report(dfm_result result, const char* call) const {
+    if (result == DFM_OK) return true;
+    std::fprintf(stderr, "viewer: %s: %s: %s\n", call, dfm_result_name(result),
+                 dfm_last_error_message());
+    return false;
+}
+
+bool Editor::open(const std::string& mesh_spec, int width, int height) {
+    mesh_spec_ = mesh_spec;
+    if (!report(dfm_mesh_load(context_, mesh_spec.c_str(), &mesh_), "dfm_mesh_load") ||
+        !report(dfm_mesh_get_info(mesh_, &info_), "dfm_mesh_get_info")) {
+        return false;
+    }
+    indices_.resize(3 * info_.triangle_count);
+    dfm_mesh_read_indices(mesh_, indices_.data(), indices_.size());
+    reload_rest_pose();
+    const dfm_vec3_input positions = {display_.data(), info_.vertex_count, 0, DFM_SCALAR_FLOAT32};
+    dfm_camera start = {};
+    if (!report(
+            dfm_vk_renderer_set_mesh(renderer_, &positions, indices_.data(), info_.triangle_count),
+            "dfm_vk_renderer_set_mesh") ||
+        !report(dfm_vk_framing_camera(&positions, static_cast<std::uint32_t>(width),
+                                      static_cast<std::uint32_t>(height), &start),
+                "dfm_vk_framing_camera")) {
+        return false;
+    }
+    camera_.reset(start);
+    camera_.set_viewport(width, height);
+    display_changed_ = false;
+    return true;
+}
+
+void Editor::reload_rest_pose() {
+    dfm_mesh_get_info(mesh_, &info_);
+    rest_.resize(3 * info_.vertex_count);
+    const dfm_vec3_output out = {rest_.data(), info_.vertex_count, 0, DFM_SCALAR_FLOAT32};
+    dfm_mesh_read_positions(mesh_, &out);
+    display_ = rest_;
+    display_changed_ = true;
+}
+
+void Editor::resize(int width, int height) {
+    camera_.set_viewport(width, height);
+}
+
+dfm_vk_frame Editor::frame() const {
+    dfm_vk_frame f = {};
+    f.camera = camera_.camera();
+    f.flags = flags_;
+    return f;
+}
+
+void Editor::press(Button button, double x, double y, bool shift) {
+    last_x_ = press_x_ = x;
+    last_y_ = press_y_ = y;
+    moved_ = false;
+    if (button == Button::right) orbiting_ = true;
+    if (button == Button::middle) panning_ = true;
+    if (button == Button::left) {
+        left_down_ = true;
+        if (stage_ == Stage::handles) begin_drag(x, y, shift);
+    }
+}
+
+void Editor::release(Button button, double x, double y) {
+    move(x, y);
+    if (button == Button::right) orbiting_ = false;
+    if (button == Button::middle) panning_ = false;
+    if (button != Button::left || !left_down_) return;
+    left_down_ = false;
+    const bool was_drag = dragged_group_ >= 0 && moved_;
+    dragged_group_ = -1;
+    if (!was_drag) click(x, y);
+}
+
+void Editor::move(double x, double y) {
+    const double dx = x - last_x_, dy = y - last_y_;
+    if (std::abs(x - press_x_) + std::abs(y - press_y_) > 2.0) moved_ = true;
+    if (orbiting_) camera_.orbit(dx, dy);
+    if (panning_) camera_.pan(dx, dy);
+    if (left_down_ && dragged_group_ >= 0 && moved_) drag_to(x, y);
+    last_x_ = x;
+    last_y_ = y;
+}
+
+void Editor::scroll(double steps) {
+    camera_.zoom(steps);
+}
+
+void Editor::click(double x, double y) {
+    switch (stage_) {
+        case Stage::pick_first:
+        case Stage::pick_last: pick_endpoint(x, y); break;
+        case Stage::suspect: break;
+        case Stage::handles: add_handle(x, y); break;
+    }
+}
+
+void Editor::pick_endpoint(double x, double y) {
+    const dfm_camera camera = camera_.camera();
+    dfm_hit hit = {};
+    if (!report(dfm_mesh_pick(mesh_, &camera, x, y, &hit), "dfm_mesh_pick") || !hit.hit) return;
+    if (stage_ == Stage::pick_first) {
+        first_ = hit.vertex;
+        stage_ = Stage::pick_last;
+        refresh_lines();
+        return;
+    }
+    last_ = hit.vertex;
+    dfm_roi* roi = nullptr;
+    if (!report(dfm_roi_water_fill(mesh_, first_, last_, &roi, &diagnosis_),
+                "dfm_roi_water_fill")) {
+        stage_ = Stage::pick_first;
+        refresh_lines();
+        return;
+    }
+    roi_ = roi;
+    std::size_t n = 0;
+    dfm_roi_count(roi_, &n);
+    roi_vertices_.resize(n);
+    dfm_roi_read(roi_, roi_vertices_.data(), n);
+    stage_ = diagnosis_.suspect ? Stage::suspect : Stage::handles;
+    refresh_marks();
+    refresh_lines();
+}
+
+void Editor::add_handle(double x, double y) {
+    const dfm_camera camera = camera_.camera();
+    dfm_hit hit = {};
+    if (!report(dfm_mesh_pick(mesh_, &camera, x, y, &hit), "dfm_mesh_pick") || !hit.hit) return;
+    if (!std::binary_search(roi_vertices_.begin(), roi_vertices_.end(), hit.vertex)) return;
+    for (const auto& group : groups_) {
+        if (std::find(group.begin(), group.end(), hit.vertex) != group.end()) return;
+    }
+    dfm_roi* ball = nullptr;
+    if (!report(dfm_roi_ball(mesh_, hit.vertex, handle_radius_, &ball), "dfm_roi_ball")) return;
+    std::size_t n = 0;
+    dfm_roi_count(ball, &n);
+    std::vector<std::uint32_t> vertices(n);
+    dfm_roi_read(ball, vertices.data(), n);
+    dfm_roi_destroy(ball);
+    // Only ROI vertices can be handles, and each in one group.
+    std::erase_if(vertices, [&](std::uint32_t v) {
+        if (!std::binary_search(roi_vertices_.begin(), roi_vertices_.end(), v)) return true;
+        for (const auto& group : groups_) {
+            if (std::find(group.begin(), group.end(), v) != group.end()) return true;
+        }
+        return false;
+    });
+    if (vertices.empty()) return;
+    end_session();
+    groups_.push_back(std::move(vertices));
+    transforms_.assign(groups_.size(), identity());
+    refresh_marks();
+}
+
+Vec3 Editor::group_centroid(std::size_t group) const {
+    Vec3 sum{0, 0, 0};
+    for (std::uint32_t v : groups_[group]) {
+        const Vec3 rest = {rest_[3 * v], rest_[3 * v + 1], rest_[3 * v + 2]};
+        const Vec3 p = apply(transforms_[group], rest);
+        for (int c = 0; c < 3; ++c) sum[c] += p[c];
+    }
+    const double n = static_cast<double>(groups_[group].size());
+    return {sum[0] / n, sum[1] / n, sum[2] / n};
+}
+
+void Editor::begin_drag(double x, double y, bool rotate) {
+    // The group whose (moved) centre is nearest the pointer, within 40 px.
+    double best = 40.0;
+    dragged_group_ = -1;
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+        double px = 0, py = 0;
+        if (!camera_.project(group_centroid(g), px, py)) continue;
+        const double d = std::hypot(px - x, py - y);
+        if (d < best) best = d, dragged_group_ = static_cast<int>(g);
+    }
+    rotating_ = rotate;
+}
+
+void Editor::drag_to(double x, double y) {
+    if (!ensure_session()) {
+        dragged_group_ = -1;
+        return;
+    }
+    const std::size_t g = static_cast<std::size_t>(dragged_group_);
+    const Vec3 centre = group_centroid(g);
+    const double dx = x - last_x_, dy = y - last_y_;
+    Matrix step;
+    if (rotating_) {
+        // Half a degree per pixel, about the view axis through the centre.
+        step = multiply(translation(centre),
+                        multiply(rotation(camera_.forward(), dx * 0.5 * pi / 180.0),
+                                 translation({-centre[0], -centre[1], -centre[2]})));
+    } else {
+        step = translation(camera_.drag_in_view_plane(centre, dx, dy));
+    }
+    transforms_[g] = multiply(step, transforms_[g]);
+    transforms_dirty_ = true;
+}
+
+bool Editor::ensure_session() {
+    if (session_ != nullptr) return true;
+    std::vector<dfm_handle_group> groups;
+    for (const auto& group : groups_) groups.push_back({group.data(), group.size()});
+    dfm_session_desc desc = {};
+    desc.roi = roi_;
+    desc.groups = groups.data();
+    desc.group_count = groups.size();
+    if (!report(dfm_session_create(mesh_, &desc, &session_), "dfm_session_create")) return false;
+    submitted_ = shown_ = 0;
+    transforms_dirty_ = true;
+    return true;
+}
+
+void Editor::end_session() {
+    dfm_session_destroy(session_);
+    session_ = nullptr;
+    submitted_ = shown_ = 0;
+    last_info_ = dfm_frame_info{};
+}
+
+void Editor::cancel_selection() {
+    end_session();
+    dfm_roi_destroy(roi_);
+    roi_ = nullptr;
+    roi_vertices_.clear();
+    groups_.clear();
+    transforms_.clear();
+    diagnosis_ = {};
+    stage_ = Stage::pick_first;
+    display_ = rest_;
+    display_changed_ = true;
+    refresh_marks();
+    refresh_lines();
+}
+
+void Editor::reset_transforms() {
+    transforms_.assign(groups_.size(), identity());
+    transforms_dirty_ = session_ != nullptr;
+}
+
+void Editor::bake() {
+    if (session_ == nullptr) return;
+    if (!report(dfm_session_bake(session_), "dfm_session_bake")) return;
+    // The session restarted on the baked pose with identity transforms.
+    transforms_.assign(groups_.size(), identity());
+    transforms_dirty_ = false;
+    reload_rest_pose();
+    refresh_lines();
+}
+
+void Editor::undo_or_redo(bool undo) {
+    // A session belongs to the rest pose it started on.
+    end_session();
+    const dfm_result r = undo ? dfm_mesh_undo_bake(mesh_) : dfm_mesh_redo_bake(mesh_);
+    if (r == DFM_ERROR_NOT_FOUND) return;
+    if (!report(r, undo ? "dfm_mesh_undo_bake" : "dfm_mesh_redo_bake")) return;
+    transforms_.assign(groups_.size(), identity());
+    reload_rest_pose();
+    refresh_lines();
+}
+
+void Editor::key(const std::string& name) {
+    if (name == "escape") {
+        cancel_selection();
+    } else if (name == "enter") {
+        if (stage_ == Stage::suspect) stage_ = Stage::handles;
+    } else if (name == "b") {
+        bake();
+    } else if (name == "ctrl+z") {
+        undo_or_redo(true);
+    } else if (name == "ctrl+y") {
+        undo_or_redo(false);
+    } else if (name == "r" || name == "backspace") {
+        reset_transforms();
+    } else if (name == "s") {
+        save_mesh(mesh_output_);
+    } else if (name == "e") {
+        save_scenario("viewer_edit.json");
+    } else if (name == "w") {
+        flags_ ^= DFM_VK_FLAG_WIREFRAME;
+    } else if (name == "f") {
+        flags_ ^= DFM_VK_FLAG_FLAT;
+    } else if (name == "[") {
+        handle_radius_ = std::max(0.005, handle_radius_ / 1.25);
+    } else if (name == "]") {
+        handle_radius_ = std::min(0.3, handle_radius_ * 1.25);
+    } else if (name == "q") {
+        quit_ = true;
+    }
+}
+
+bool Editor::update() {
+    if (session_ != nullptr && transforms_dirty_) {
+        for (std::size_t g = 0; g < transforms_.size(); ++g) {
+            if (!report(dfm_session_set_group_transform(session_, static_cast<std::uint32_t>(g),
+                                                        transforms_[g].data()),
+                        "dfm_session_set_group_transform")) {
+                return false;
+            }
+        }
+        if (!report(dfm_session_submit(session_, &submitted_), "dfm_session_submit")) return false;
+        transforms_dirty_ = false;
+    }
+    if (session_ != nullptr) {
+        bool is_new = false;
+        dfm_frame_info info = {};
+        dfm_session_poll(session_, shown_, &info, &is_new);
+        dfm_frame_view view = {};
+        if (is_new && dfm_session_acquire_frame(session_, &view, &info) == DFM_OK) {
+            for (std::size_t i = 0; i < view.roi_count; ++i) {
+                for (int c = 0; c < 3; ++c) {
+                    display_[3 * view.roi_vertices[i] + c] = view.roi_positions[3 * i + c];
+                }
+            }
+            dfm_session_release_frame(session_);
+            shown_ = info.generation;
+            last_info_ = info;
+            display_changed_ = true;
+        }
+    }
+    if (display_changed_) {
+        const dfm_vec3_input positions = {display_.data(), info_.vertex_count, 0,
+                                          DFM_SCALAR_FLOAT32};
+        if (!report(dfm_vk_renderer_update_positions(renderer_, &positions),
+                    "dfm_vk_renderer_update_positions")) {
+            return false;
+        }
+        display_changed_ = false;
+    }
+    return true;
+}
+
+bool Editor::settled() const {
+    if (session_ == nullptr) return true;
+    if (transforms_dirty_) return false;
+    return shown_ >= submitted_ && !last_info_.partial;
+}
+
+void Editor::refresh_marks() {
+    std::vector<std::uint8_t> marks(info_.vertex_count, DFM_VK_MARK_SURFACE);
+    for (std::uint32_t v : roi_vertices_) marks[v] = DFM_VK_MARK_ROI;
+    for (const auto& group : groups_) {
+        for (std::uint32_t v : group) marks[v] = DFM_VK_MARK_HANDLE;
+    }
+    report(dfm_vk_renderer_set_marks(renderer_, marks.data(), marks.size()),
+           "dfm_vk_renderer_set_marks");
+}
+
+void Editor::refresh_lines() {
+    // The region line from the first click's vertex to the last's.
+    if (stage_ == Stage::pick_first) {
+        report(dfm_vk_renderer_set_lines(renderer_, nullptr, 0), "dfm_vk_renderer_set_lines");
+        return;
+    }
+    const std::uint32_t end = stage_ == Stage::pick_last ? first_ : last_;
+    const float points[6] = {rest_[3 * first_], rest_[3 * first_ + 1], rest_[3 * first_ + 2],
+                             rest_[3 * end],    rest_[3 * end + 1],    rest_[3 * end + 2]};
+    dfm_vk_polyline line = {};
+    line.points = {points, 2, 0, DFM_SCALAR_FLOAT32};
+    if (diagnosis_.suspect) {
+        line.color[0] = 1.0f;
+        line.color[3] = 1.0f;
+    }
+    report(dfm_vk_renderer_set_lines(renderer_, &line, 1), "dfm_vk_renderer_set_lines");
+}
+
+std::string Editor::status_line() const {
+    char text[256];
+    const char* what = "";
+    switch (stage_) {
+        case Stage::pick_first: what = "click the limb's tip"; break;
+        case Stage::pick_last: what = "click where the region ends"; break;
+        case Stage::suspect: what = "SUSPECT region: Enter keeps it, Escape cancels"; break;
+        case Stage::handles:
+            what = groups_.empty() ? "click handles" : "drag handles (shift: rotate)";
+            break;
+    }
+    std::snprintf(text, sizeof text,
+                  "Dualform | ROI %zu (%zu loops) | %zu handles | gen %llu: %u iterations, %.2f "
+                  "ms%s | %s",
+                  roi_vertices_.size(), diagnosis_.loops, groups_.size(),
+                  static_cast<unsigned long long>(last_info_.generation), last_info_.iterations,
+                  last_info_.solve_ms, last_info_.partial ? " (preview)" : "", what);
+    return text;
+}
+
+bool Editor::write_screenshot(const std::string& path) {
+    const dfm_vk_frame f = frame();
+    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(f.camera.width) * f.camera.height * 4);
+    return report(dfm_vk_renderer_render_offscreen(renderer_, &f, rgba.data(), rgba.size()),
+                  "dfm_vk_renderer_render_offscreen") &&
+           report(dfm_vk_write_png(path.c_str(), rgba.data(), rgba.size(), f.camera.width,
+                                   f.camera.height),
+                  "dfm_vk_write_png");
+}
+
+bool Editor::save_mesh(const std::string& path) {
+    bake();
+    return report(dfm_mesh_save(mesh_, path.c_str()), "dfm_mesh_save");
+}
+
+bool Editor::save_camera(const std::string& path) const {
+    const dfm_camera c = camera_.camera();
+    std::ofstream out(path);
+    out.precision(17);
+    out << "{\"eye\": [" << c.eye[0] << ", " << c.eye[1] << ", " << c.eye[2] << "], \"target\": ["
+        << c.target[0] << ", " << c.target[1] << ", " << c.target[2] << "], \"up\": [" << c.up[0]
+        << ", " << c.up[1] << ", " << c.up[2] << "], \"fov_y_degrees\": " << c.fov_y_degrees
+        << ", \"width\": " << c.width << ", \"height\": " << c.height << "}\n";
+    out.close();
+    if (!out) {
+        std::fprintf(stderr, "viewer: could not write %s\n", path.c_str());
+        return false;
+    }
+    return true;
+}
+
+bool Editor::save_scenario(const std::string& path) const {
+    if (roi_ == nullptr || groups_.empty()) {
+        std::fprintf(stderr, "viewer: no edit to save yet (select a region and handles)\n");
+        return false;
+    }
+    std::ofstream out(path);
+    out.precision(17);
+    out << "{\n  \"description\": \"saved by the Dualform viewer\",\n  \"mesh\": \"" << mesh_spec_
+        << "\",\n  \"roi\": {\"water_fill\": {\"first\": " << first_ << ", \"last\": " << last_
+        << "}},\n  \"handles\": [";
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+        out << (g == 0 ? "\n" : ",\n") << "    {\"vertices\": [";
+        for (std::size_t i = 0; i < groups_[g].size(); ++i) {
+            out << (i == 0 ? "" : ", ") << groups_[g][i];
+        }
+        out << "],\n     \"targets\": [";
+        for (std::size_t i = 0; i < groups_[g].size(); ++i) {
+            const std::uint32_t v = groups_[g][i];
+            const Vec3 p =
+                apply(transforms_[g], {rest_[3 * v], rest_[3 * v + 1], rest_[3 * v + 2]});
+            out << (i == 0 ? "" : ", ") << "[" << p[0] << ", " << p[1] << ", " << p[2] << "]";
+        }
+        out << "]}";
+    }
+    out << "\n  ]\n}\n";
+    out.close();
+    if (!out) {
+        std::fprintf(stderr, "viewer: could not write %s\n", path.c_str());
+        return false;
+    }
+    return true;
+}
+
+}  // namespace viewer

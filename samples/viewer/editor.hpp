@@ -1,0 +1,113 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dualform/dualform.h"
+#include "dualform/dualform_vulkan.h"
+#include "orbit_camera.hpp"
+
+namespace viewer {
+
+// The interactive edit, apart from where its input comes from: GLFW's
+// callbacks and a --script file call the same methods. It talks to
+// Dualform through dualform.h and draws through dualform_vulkan.h only.
+class Editor {
+public:
+    enum class Stage { pick_first, pick_last, suspect, handles };
+    enum class Button { left, middle, right };
+
+    Editor(dfm_context* context, dfm_vk_renderer* renderer);
+    ~Editor();
+    Editor(const Editor&) = delete;
+    Editor& operator=(const Editor&) = delete;
+
+    // Loads the mesh and frames it; false with the SDK's message on stderr.
+    bool open(const std::string& mesh_spec, int width, int height);
+
+    void resize(int width, int height);
+    void press(Button button, double x, double y, bool shift);
+    void release(Button button, double x, double y);
+    void move(double x, double y);
+    void scroll(double steps);
+    // "b", "ctrl+z", "enter", "escape", "backspace", "w", ... (see README).
+    void key(const std::string& name);
+
+    // Once per frame: hands changed transforms to the solver, picks up its
+    // newest result and gives the renderer what changed.
+    bool update();
+
+    bool write_screenshot(const std::string& path);
+    bool save_scenario(const std::string& path) const;
+    // The view as the camera JSON of SCENARIOS.md (for `dualform render`).
+    bool save_camera(const std::string& path) const;
+    bool save_mesh(const std::string& path);
+    void set_mesh_output(const std::string& path) { mesh_output_ = path; }
+
+    // True when no targets are waiting for their finished result.
+    bool settled() const;
+    bool quit_requested() const { return quit_; }
+    std::string status_line() const;
+    dfm_vk_frame frame() const;
+    Stage stage() const { return stage_; }
+
+private:
+    using Matrix = std::array<double, 16>;
+
+    void click(double x, double y);
+    void pick_endpoint(double x, double y);
+    void add_handle(double x, double y);
+    void begin_drag(double x, double y, bool rotate);
+    void drag_to(double x, double y);
+    bool ensure_session();
+    void end_session();
+    void cancel_selection();
+    void bake();
+    void undo_or_redo(bool undo);
+    void reset_transforms();
+    void reload_rest_pose();
+    void refresh_marks();
+    void refresh_lines();
+    Vec3 group_centroid(std::size_t group) const;
+    bool report(dfm_result result, const char* call) const;
+
+    dfm_context* context_;
+    dfm_vk_renderer* renderer_;
+    std::string mesh_spec_;
+    std::string mesh_output_ = "viewer_mesh.off";
+    dfm_mesh* mesh_ = nullptr;
+    dfm_mesh_info info_{};
+    std::vector<std::uint32_t> indices_;
+    std::vector<float> rest_;     // x y z per vertex, the current rest pose
+    std::vector<float> display_;  // what is drawn
+    bool display_changed_ = false;
+    OrbitCamera camera_;
+    std::uint32_t flags_ = 0;
+
+    Stage stage_ = Stage::pick_first;
+    std::uint32_t first_ = 0, last_ = 0;
+    dfm_roi* roi_ = nullptr;
+    std::vector<std::uint32_t> roi_vertices_;
+    dfm_water_fill_diagnosis diagnosis_{};
+    double handle_radius_ = 0.03;
+    std::vector<std::vector<std::uint32_t>> groups_;
+    std::vector<Matrix> transforms_;
+    dfm_session* session_ = nullptr;
+    bool transforms_dirty_ = false;
+    std::uint64_t submitted_ = 0;
+    std::uint64_t shown_ = 0;
+    dfm_frame_info last_info_{};
+
+    // Pointer state: a press becomes a click unless it moves a handle group.
+    bool left_down_ = false;
+    bool orbiting_ = false, panning_ = false;
+    int dragged_group_ = -1;
+    bool rotating_ = false;
+    bool moved_ = false;
+    double press_x_ = 0, press_y_ = 0, last_x_ = 0, last_y_ = 0;
+    bool quit_ = false;
+};
+
+}  // namespace viewer
