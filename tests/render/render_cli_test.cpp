@@ -49,9 +49,29 @@ TEST_CASE("render: dualform render refuses bad input with exit 2") {
           {"render", "model:cow", "--png", png, "--width", "0"},
           {"render", "model:cow", "--png", png, "--samples", "3"},
           {"render", "model:cow", "--png", png, "--camera", "{\"eye\": [0, 0, 0]}"},
-          {"render", (dir / "missing.off").string(), "--png", png}}) {
+          {"render", (dir / "missing.off").string(), "--png", png},
+          {"render", "model:cow", scenario("cow-tail-swing.json"), "--png", png},
+          {"render", scenario("cow-tail-swing.json"), scenario("triceratops-horn-rotate.json"),
+           "--png", png}}) {
         const ProcessResult r = run_process(DUALFORM_CLI, args);
         CHECK(r.exit_code == 2);
         CHECK(r.err.starts_with("error: "));
     }
+}
+
+TEST_CASE("render: several scenarios render as successive edits") {
+    const std::filesystem::path dir = scratch_dir("render_cli_chain");
+    const std::string one = (dir / "leg.png").string(), two = (dir / "leg-tail.png").string();
+    for (const auto& [png, inputs] :
+         {std::pair{one, std::vector<std::string>{scenario("cow-front-leg-step.json")}},
+          std::pair{two, std::vector<std::string>{scenario("cow-front-leg-step.json"),
+                                                  scenario("cow-tail-swing.json")}}}) {
+        std::vector<std::string> args = {"render"};
+        args.insert(args.end(), inputs.begin(), inputs.end());
+        args.insert(args.end(), {"--width", "200", "--height", "150", "--png", png});
+        const ProcessResult r = run_process(DUALFORM_CLI, args);
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+    }
+    CHECK(read_text(one) != read_text(two));
 }

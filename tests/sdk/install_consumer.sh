@@ -37,4 +37,10 @@ fi
 soname=$(objdump -p "$libdir/libdualform.so" | awk '/SONAME/ {print $2}')
 echo "SONAME $soname"
 [ "$soname" = "libdualform.so.0" ]
+if [ -f "$build/sdk/src/vulkan/libdualform_vulkan.so" ]; then
+  echo "== the renderer"
+  [ -f "$work/prefix/include/dualform/dualform_vulkan.h" ]
+  [ -f "$libdir/libdualform_vulkan.so.0" ]
+  grep -q "dualform::vulkan" "$(find "$work/prefix" -name dualformTargets.cmake)"
+fi
 echo "install_consumer: ok"

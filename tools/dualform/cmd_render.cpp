@@ -19,11 +19,13 @@ namespace dfm::cli {
 namespace {
 
 constexpr const char* usage =
-    "usage: dualform render (SCENARIO|MESH) --png OUT [--camera JSON] [--width W --height H]\n"
-    "       [--before-after] [--wireframe] [--flat] [--samples 1|2|4] [--bench N]";
+    "usage: dualform render (SCENARIO...|MESH) --png OUT [--camera JSON] [--width W --height H]\n"
+    "       [--before-after] [--wireframe] [--flat] [--samples 1|2|4] [--bench N]\n"
+    "       (several scenarios: successive edits of one mesh, each baked before the next)";
 
 struct RenderOptions {
-    std::string input, png;
+    std::vector<std::string> inputs;
+    std::string png;
     std::string camera;
     std::uint32_t width = 0, height = 0;
     bool before_after = false;
@@ -68,13 +70,13 @@ int parse(std::span<const std::string_view> args, RenderOptions& o) {
             o.wireframe = true;
         } else if (a == "--flat") {
             o.flat = true;
-        } else if (a.starts_with("--") || !o.input.empty()) {
+        } else if (a.starts_with("--")) {
             return bad_input("unexpected argument '" + std::string(a) + "'\n" + usage);
         } else {
-            o.input = std::string(a);
+            o.inputs.emplace_back(a);
         }
     }
-    if (o.input.empty() || (o.png.empty() && o.bench_frames == 0)) return bad_input(usage);
+    if (o.inputs.empty() || (o.png.empty() && o.bench_frames == 0)) return bad_input(usage);
     return 0;
 }
 
@@ -151,7 +153,7 @@ int run_render(std::span<const std::string_view> args) {
     if (int code = parse(args, o); code != 0) return code;
 
     RenderScene scene;
-    if (Status s = load_render_scene(o.input, scene); !s) return bad_input(s.message());
+    if (Status s = load_render_scene(o.inputs, scene); !s) return bad_input(s.message());
 
     render::ViewSettings view;
     view.wireframe = o.wireframe;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,8 +19,9 @@ struct RenderScene {
     std::vector<std::uint8_t> marks;   // empty for a plain mesh
 };
 
-// A path ending in .json is a scenario, which is replayed; anything else is
-// a mesh (a path or model:NAME). Errors name the file and what is wrong.
-Status load_render_scene(const std::string& input, RenderScene& out);
+// Paths ending in .json are scenarios, replayed one after the other (each
+// baked before the next, see edit_chain.hpp); anything else is one mesh (a
+// path or model:NAME). Errors name the file and what is wrong.
+Status load_render_scene(std::span<const std::string> inputs, RenderScene& out);
 
 }  // namespace dfm::cli
