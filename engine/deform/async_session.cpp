@@ -65,8 +65,7 @@ AsyncSession::~AsyncSession() {
     if (worker_.joinable()) worker_.join();
 }
 
-Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
-    generation = 0;
+Status AsyncSession::check_targets(std::span<const glm::dvec3> targets) const {
     if (targets.size() != handle_vertices_.size()) {
         return Status(Errc::invalid_argument,
                       "expected " + std::to_string(handle_vertices_.size()) + " targets, got " +
@@ -77,9 +76,15 @@ Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& 
             !std::isfinite(targets[h].z)) {
             return Status(Errc::numerical, "target " + std::to_string(h) + " (vertex " +
                                                std::to_string(handle_vertices_[h]) +
-                                               ") is not finite; nothing was queued");
+                                               ") is not finite; nothing was changed");
         }
     }
+    return Status::ok();
+}
+
+Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
+    generation = 0;
+    if (Status s = check_targets(targets); !s) return s;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         std::copy(targets.begin(), targets.end(), queued_targets_.begin());
@@ -105,11 +110,7 @@ void AsyncSession::cancel() {
 
 Status AsyncSession::solve_now(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
     generation = 0;
-    if (targets.size() != handle_vertices_.size()) {
-        return Status(Errc::invalid_argument,
-                      "expected " + std::to_string(handle_vertices_.size()) + " targets, got " +
-                          std::to_string(targets.size()));
-    }
+    if (Status s = check_targets(targets); !s) return s;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         has_queued_ = false;

@@ -69,8 +69,8 @@ public:
     // stay; the session keeps the stopped iterate as its next starting point.
     void cancel();
 
-    // Solves `targets` on the calling thread, after stopping the worker's
-    // solve, and publishes the frame as the worker would: the same
+    // Solves `targets` on the calling thread (refused like submit's), after
+    // stopping the worker's solve, and publishes the frame as the worker would: the same
     // arithmetic, so the result is bit for bit what the worker computes from
     // the same state.
     Status solve_now(std::span<const glm::dvec3> targets, std::uint64_t& generation);
@@ -123,6 +123,8 @@ public:
 private:
     explicit AsyncSession(std::unique_ptr<DeformSession> session);
     void run_worker();
+    // The count and finiteness of targets, checked before anything changes.
+    Status check_targets(std::span<const glm::dvec3> targets) const;
     // Solves for `targets` under solve_mutex_ and publishes the frame.
     Status solve_and_publish(std::span<const glm::dvec3> targets, std::uint64_t generation,
                              const std::atomic<bool>* interrupt);

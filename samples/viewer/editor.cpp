@@ -422,21 +422,64 @@ void Editor::refresh_marks() {
 }
 
 void Editor::refresh_lines() {
-    // The region line from the first click's vertex to the last's.
     if (stage_ == Stage::pick_first) {
         report(dfm_vk_renderer_set_lines(renderer_, nullptr, 0), "dfm_vk_renderer_set_lines");
         return;
     }
+    // The region line from the first click's vertex to the last's (red for a
+    // suspect region), and once the region is filled, the cutting plane's
+    // loop: where the plane through `last`, normal to the region line, cuts
+    // the triangles that touch the region.
     const std::uint32_t end = stage_ == Stage::pick_last ? first_ : last_;
-    const float points[6] = {rest_[3 * first_], rest_[3 * first_ + 1], rest_[3 * first_ + 2],
-                             rest_[3 * end],    rest_[3 * end + 1],    rest_[3 * end + 2]};
-    dfm_vk_polyline line = {};
-    line.points = {points, 2, 0, DFM_SCALAR_FLOAT32};
+    std::vector<float> points = {rest_[3 * first_], rest_[3 * first_ + 1], rest_[3 * first_ + 2],
+                                 rest_[3 * end],    rest_[3 * end + 1],    rest_[3 * end + 2]};
+    std::vector<dfm_vk_polyline> lines(1);
     if (diagnosis_.suspect) {
-        line.color[0] = 1.0f;
-        line.color[3] = 1.0f;
+        lines[0].color[0] = 1.0f;
+        lines[0].color[3] = 1.0f;
     }
-    report(dfm_vk_renderer_set_lines(renderer_, &line, 1), "dfm_vk_renderer_set_lines");
+    if (roi_ != nullptr) {
+        const Vec3 at = {rest_[3 * last_], rest_[3 * last_ + 1], rest_[3 * last_ + 2]};
+        const Vec3 normal = {at[0] - points[0], at[1] - points[1], at[2] - points[2]};
+        const auto side = [&](std::uint32_t v) {
+            double d = 0.0;
+            for (int c = 0; c < 3; ++c) d += (rest_[3 * v + c] - at[c]) * normal[c];
+            return d;
+        };
+        for (std::size_t t = 0; t < info_.triangle_count; ++t) {
+            const std::uint32_t* tri = &indices_[3 * t];
+            if (!std::binary_search(roi_vertices_.begin(), roi_vertices_.end(), tri[0]) &&
+                !std::binary_search(roi_vertices_.begin(), roi_vertices_.end(), tri[1]) &&
+                !std::binary_search(roi_vertices_.begin(), roi_vertices_.end(), tri[2])) {
+                continue;
+            }
+            std::size_t crossings = 0;
+            for (int e = 0; e < 3; ++e) {
+                const std::uint32_t a = tri[e], b = tri[(e + 1) % 3];
+                const double da = side(a), db = side(b);
+                if ((da < 0.0) == (db < 0.0)) continue;
+                const double u = da / (da - db);
+                for (int c = 0; c < 3; ++c) {
+                    points.push_back(static_cast<float>(rest_[3 * a + c] +
+                                                        u * (rest_[3 * b + c] - rest_[3 * a + c])));
+                }
+                ++crossings;
+            }
+            // A plane crosses a triangle's edges twice or not at all.
+            if (crossings != 2) points.resize(points.size() - 3 * crossings);
+        }
+    }
+    // The points vector is complete now: take the pointers.
+    lines[0].points = {points.data(), 2, 0, DFM_SCALAR_FLOAT32};
+    for (std::size_t first = 6; first + 6 <= points.size(); first += 6) {
+        dfm_vk_polyline segment = {};
+        segment.points = {&points[first], 2, 0, DFM_SCALAR_FLOAT32};
+        segment.color[1] = segment.color[2] = 1.0f;
+        segment.color[3] = 1.0f;
+        lines.push_back(segment);
+    }
+    report(dfm_vk_renderer_set_lines(renderer_, lines.data(), lines.size()),
+           "dfm_vk_renderer_set_lines");
 }
 
 std::string Editor::status_line() const {
