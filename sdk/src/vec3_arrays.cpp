@@ -10,15 +10,15 @@ std::size_t scalar_size(dfm_scalar_type type) {
     return type == DFM_SCALAR_FLOAT64 ? sizeof(double) : sizeof(float);
 }
 
-std::string check_layout(const void* data, dfm_scalar_type type, std::size_t stride,
+std::string check_layout(const void* data, const dfm_scalar_type& type, std::size_t stride,
                          const char* what) {
     std::string message;
     if (data == nullptr) {
         message = what;
         message += ": data is NULL";
-    } else if (type != DFM_SCALAR_FLOAT32 && type != DFM_SCALAR_FLOAT64) {
+    } else if (!known_scalar_type(type)) {
         message = what;
-        message += ": unknown scalar type " + std::to_string(static_cast<int>(type));
+        message += ": unknown scalar type (DFM_SCALAR_FLOAT32 or DFM_SCALAR_FLOAT64 expected)";
     } else if (stride != 0 && stride < 3 * scalar_size(type)) {
         message = what;
         message += ": stride " + std::to_string(stride) + " is smaller than one vector (" +

@@ -1,14 +1,25 @@
 #pragma once
 
 #include <cstddef>
+#include <cstring>
 #include <span>
 #include <string>
+#include <type_traits>
 
 #include <glm/vec3.hpp>
 
 #include "dualform/dualform.h"
 
 namespace dfm::sdk {
+
+// Whether a host's scalar type field holds one of the enum's values. Read as
+// its integer: C lets a host store any int there, and loading an invalid
+// value as the C++ enum is undefined.
+inline bool known_scalar_type(const dfm_scalar_type& field) {
+    std::underlying_type_t<dfm_scalar_type> raw;
+    std::memcpy(&raw, &field, sizeof raw);
+    return raw == DFM_SCALAR_FLOAT32 || raw == DFM_SCALAR_FLOAT64;
+}
 
 // Checks a host array descriptor: data present, a known scalar type, a
 // stride that holds one vector. `what` names it in the message; empty

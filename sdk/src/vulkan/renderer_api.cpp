@@ -9,6 +9,7 @@
 #include "render/renderer.hpp"
 #include "render/validation.hpp"
 #include "render/view_transform.hpp"
+#include "vec3_arrays.hpp"
 #include "vulkan_boundary.hpp"
 
 // A handle carries a tag, so a destroyed or foreign pointer is caught where
@@ -40,7 +41,7 @@ render::StridedPositions to_strided(const dfm_vec3_input& p) {
 }
 
 dfm_result check_scalar(const char* function, const dfm_vec3_input& p) {
-    if (p.type != DFM_SCALAR_FLOAT64 && p.type != DFM_SCALAR_FLOAT32) {
+    if (!dfm::sdk::known_scalar_type(p.type)) {
         return report(function, DFM_ERROR_INVALID_ARGUMENT,
                       "positions.type must be DFM_SCALAR_FLOAT64 or DFM_SCALAR_FLOAT32");
     }
