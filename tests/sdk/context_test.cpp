@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "dualform/dualform.h"
 #include "sdk/sdk_fixture.hpp"
 #include "support/procedural_meshes.hpp"
+#include "support/test_files.hpp"
 
 using namespace dfm::test;
 
@@ -149,4 +151,78 @@ TEST_CASE("context: a failing host allocator gives out-of-memory at every step a
     }
     MESSAGE("host allocation points exercised: " << k);
     CHECK(k >= 3);
+}
+
+TEST_CASE("context: the log callback hears load warnings, suspect fills and capped solves") {
+    struct Heard {
+        std::vector<dfm_log_id> ids;
+        std::vector<std::string> messages;
+    } heard;
+    dfm_context_desc desc = {};
+    desc.log = [](void* user, dfm_log_level, dfm_log_id id, const char* message) {
+        auto* h = static_cast<Heard*>(user);
+        h->ids.push_back(id);
+        h->messages.emplace_back(message);
+    };
+    desc.log_user = &heard;
+    dfm_context* context = nullptr;
+    REQUIRE(dfm_context_create(&desc, &context) == DFM_OK);
+
+    // A tetrahedron whose fifth face repeats a vertex: dropped with a warning.
+    const std::string path = (dfm::test::scratch_dir("sdk_log") / "tetra.off").string();
+    std::ofstream(path) << "OFF\n4 5 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                           "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n3 0 0 1\n";
+    dfm_mesh* tetra = nullptr;
+    REQUIRE_MESSAGE(dfm_mesh_load(context, path.c_str(), &tetra) == DFM_OK, last_error());
+    REQUIRE(heard.ids.size() == 1);
+    CHECK(heard.ids[0] == DFM_LOG_ID_LOAD_WARNING);
+    CHECK(heard.messages[0].find("tetra.off") != std::string::npos);
+    dfm_mesh_destroy(tetra);
+
+    // Water-Filling from one pole of a sphere to the other leaks over most of it.
+    dfm_mesh* sphere = make_c_mesh(context, dfm::test::make_icosphere(2));
+    const dfm::mesh::Mesh shape = dfm::test::make_icosphere(2);
+    std::uint32_t top = 0, bottom = 0;
+    for (std::uint32_t v = 0; v < shape.vertex_count(); ++v) {
+        if (shape.positions[v].z > shape.positions[top].z) top = v;
+        if (shape.positions[v].z < shape.positions[bottom].z) bottom = v;
+    }
+    dfm_roi* fill = nullptr;
+    dfm_water_fill_diagnosis diagnosis = {};
+    REQUIRE(dfm_roi_water_fill(sphere, top, bottom, &fill, &diagnosis) == DFM_OK);
+    CHECK(diagnosis.suspect);
+    REQUIRE(heard.ids.size() == 2);
+    CHECK(heard.ids[1] == DFM_LOG_ID_WATER_FILL_SUSPECT);
+    dfm_roi_destroy(fill);
+    dfm_mesh_destroy(sphere);
+
+    // A solve capped at one iteration.
+    LimbEdit probe;
+    dfm_mesh* limb = make_c_mesh(context, probe.shape);
+    std::vector<std::uint32_t> region, tip;
+    for (std::uint32_t v = 0; v < probe.shape.vertex_count(); ++v) {
+        if (probe.shape.positions[v].y > 0.5) region.push_back(v);
+        if (probe.shape.positions[v].y >= 1.8) tip.push_back(v);
+    }
+    dfm_roi* roi = nullptr;
+    REQUIRE(dfm_roi_from_vertices(limb, region.data(), region.size(), &roi) == DFM_OK);
+    const dfm_handle_group group = {tip.data(), tip.size()};
+    dfm_session_desc sd = {};
+    sd.roi = roi;
+    sd.groups = &group;
+    sd.group_count = 1;
+    sd.solver.max_iterations = 1;
+    sd.solver.tolerance = 1e-14;
+    dfm_session* session = nullptr;
+    REQUIRE(dfm_session_create(limb, &sd, &session) == DFM_OK);
+    double m[16];
+    translation(0.4, 0.0, 0.0, m);
+    REQUIRE(dfm_session_set_group_transform(session, 0, m) == DFM_OK);
+    REQUIRE(dfm_session_solve(session, nullptr) == DFM_OK);
+    REQUIRE(heard.ids.size() == 3);
+    CHECK(heard.ids[2] == DFM_LOG_ID_SOLVE_NOT_CONVERGED);
+    dfm_session_destroy(session);
+    dfm_roi_destroy(roi);
+    dfm_mesh_destroy(limb);
+    dfm_context_destroy(context);
 }
