@@ -94,10 +94,11 @@ TEST_CASE("water_fill: more limbs of the paper's models") {
     check_limb(camel, {"camel", "leg", 9067, 3324, 664, 1, true, false});
 
     const deform::MeshModel dino = load_model("dino");
-    // 1706: the tail tip (largest z); 1637: on the tail's narrow part, z = 1.0.
-    check_limb(dino, {"dino", "tail", 1706, 1637, 1065, 1, true, false});
-    // 1313 next to the tip: the plane runs along the tail and cuts it twice.
-    check_limb(dino, {"dino", "tail cut lengthwise", 1706, 1313, 1844, 2, true, true});
+    // The dino stands along +z: 1706 (largest z) is the top of its head;
+    // 1637, z = 1.0, on the long neck. The fill is the head and upper neck.
+    check_limb(dino, {"dino", "head and neck", 1706, 1637, 1065, 1, true, false});
+    // 1313 next to the top: the plane runs along the neck and cuts it twice.
+    check_limb(dino, {"dino", "neck cut lengthwise", 1706, 1313, 1844, 2, true, true});
 
     // The selections of the shared scenarios (tests/scenarios/*.json).
     check_limb(camel, {"camel", "head (camel-head-turn)", 315, 1858, 740, 1, true, false});
