@@ -65,7 +65,8 @@ DFM_API const char* dfm_last_error_message(void);
 /* The code of the last failing dfm_ call on this thread (DFM_OK if none). */
 DFM_API dfm_result dfm_last_error_code(void);
 
-/* DFM_VERSION of the library actually linked (may differ from the header's). */
+/* DFM_VERSION of the library actually linked (may differ from the header's). Never fails;
+ * thread-safe. */
 DFM_API uint32_t dfm_version(void);
 
 /* ---------------------------------------------------------------- camera */
@@ -162,7 +163,7 @@ DFM_API dfm_result dfm_context_create(const dfm_context_desc* desc, dfm_context*
 
 /* Releases the caller's reference. Objects created from the context keep what
  * they need alive, so destroying it first is safe. NULL is a no-op. Must not
- * race another call on the same context. */
+ * race another call on the same context. Not thread-safe for this context. */
 DFM_API void dfm_context_destroy(dfm_context* context);
 
 /* ---------------------------------------------------------------- mesh */
@@ -197,7 +198,7 @@ DFM_API dfm_result dfm_mesh_load(dfm_context* context, const char* path, dfm_mes
 DFM_API dfm_result dfm_mesh_save(const dfm_mesh* mesh, const char* path);
 
 /* Releases the caller's reference; sessions on the mesh keep it alive. NULL is
- * a no-op. Must not race another call on the same mesh. */
+ * a no-op. Must not race another call on the same mesh. Not thread-safe for this mesh. */
 DFM_API void dfm_mesh_destroy(dfm_mesh* mesh);
 
 typedef struct dfm_mesh_info {
@@ -252,7 +253,8 @@ typedef struct dfm_hit {
 DFM_API dfm_result dfm_mesh_pick(dfm_mesh* mesh, const dfm_camera* camera, double x, double y,
                                  dfm_hit* out);
 
-/* The same along a ray given by origin and direction (not necessarily unit). */
+/* The same along a ray given by origin and direction (not necessarily unit). Errors and thread
+ * safety as dfm_mesh_pick; `out` is the caller's. */
 DFM_API dfm_result dfm_mesh_pick_ray(dfm_mesh* mesh, const double origin[3],
                                      const double direction[3], dfm_hit* out);
 
@@ -276,11 +278,15 @@ DFM_API dfm_result dfm_roi_water_fill(dfm_mesh* mesh, uint32_t first, uint32_t l
 
 /* Water-Filling from two clicks: each pixel is picked through the camera and
  * its nearest corner vertex used. DFM_ERROR_NOT_FOUND when a click misses
- * the mesh (the message says which). */
+ * the mesh (the message says which). Ownership and thread safety as dfm_roi_water_fill. */
 DFM_API dfm_result dfm_roi_water_fill_clicks(dfm_mesh* mesh, const dfm_camera* camera,
                                              const double first_pixel[2],
                                              const double last_pixel[2], dfm_roi** out,
                                              dfm_water_fill_diagnosis* diagnosis);
+
+/* ROI calls below: *out is a new ROI owned by the caller (free it with
+ * dfm_roi_destroy), NULL on failure; inputs stay the caller's. All are
+ * thread-safe: ROIs are immutable. */
 
 /* An explicit list (duplicates merged). Errors name the offending entry. */
 DFM_API dfm_result dfm_roi_from_vertices(dfm_mesh* mesh, const uint32_t* vertices, size_t count,
@@ -313,6 +319,13 @@ DFM_API dfm_result dfm_roi_read(const dfm_roi* roi, uint32_t* vertices, size_t c
 DFM_API void dfm_roi_destroy(dfm_roi* roi);
 
 /* ---------------------------------------------------------------- session */
+
+/* Thread safety of session calls: set_group_transform, set_targets, submit,
+ * poll, wait, the reads, acquire/release_frame and cancel may be called from
+ * any threads at once (staging is under a lock that a solve never holds;
+ * reads never wait for the worker). set_solver and bake must not run at the
+ * same time as other calls on the same session, nor may any call race
+ * destroy. Results land only in the caller's out-parameters. */
 
 typedef struct dfm_session dfm_session;
 
