@@ -74,16 +74,21 @@ TEST_CASE("scenario misuse: every bad field is refused with its path named") {
     }
 }
 
-TEST_CASE("scenario misuse: a number beyond a double is refused where it stands") {
-    // The JSON reader refuses it before any field sees it, so the error has
-    // the line and column but not the field's name.
+TEST_CASE("scenario misuse: a number beyond a double is refused naming its field") {
     cli::Scenario scenario;
     const Status status = cli::parse_scenario(
         R"({"mesh": "m.off", "roi": {"all": true}, "handles": [{"vertices": [7]}], )"
         R"("subdivide": 1e999})",
         "s.json", scenario);
     CHECK(status.code() == Errc::parse_error);
-    CHECK(status.message() == "s.json:1:86: the number 1e999 is beyond the range of a double");
+    CHECK(status.message() ==
+          "s.json:1:86: subdivide: the number 1e999 is beyond the range of a double");
+    const Status nested = cli::parse_scenario(
+        R"({"mesh": "m.off", "roi": {"ball": {"center": 0, "radius": -1e400}}, )"
+        R"("handles": [{"vertices": [7]}]})",
+        "s.json", scenario);
+    CHECK(nested.message() ==
+          "s.json:1:59: roi.ball.radius: the number -1e400 is beyond the range of a double");
 }
 
 }  // namespace dfm::test

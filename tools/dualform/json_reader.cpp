@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cstdint>
+#include <limits>
 #include <new>
 #include <unordered_set>
 #include <utility>
@@ -118,7 +119,8 @@ bool overflows(std::string_view t) {
 
 class Parser {
 public:
-    Parser(std::string_view text, std::string_view source) : text_(text), source_(source) {}
+    Parser(std::string_view text, std::string_view source, const JsonOptions& options)
+        : text_(text), source_(source), options_(options) {}
 
     Status document(JsonValue& out) {
         // A byte order mark is invisible in editors, so the column stays 1.
@@ -260,6 +262,13 @@ private:
         const std::string_view t = text_.substr(start, pos_ - start);
         const std::errc ec = std::from_chars(t.data(), t.data() + t.size(), out.number).ec;
         if (ec == std::errc::result_out_of_range) {
+            if (overflows(t) && options_.keep_huge_numbers) {
+                out.beyond_double = true;
+                out.number = t.front() == '-' ? -std::numeric_limits<double>::infinity()
+                                              : std::numeric_limits<double>::infinity();
+                out.text = std::string(t);
+                return Status::ok();
+            }
             if (overflows(t)) {
                 std::string what = "the number ";
                 what += json_printable(t);
@@ -456,6 +465,7 @@ private:
 
     std::string_view text_;
     std::string_view source_;
+    JsonOptions options_;
     std::size_t pos_ = 0;
     JsonPosition here_;
 };
@@ -511,10 +521,15 @@ const JsonMember* JsonValue::find(std::string_view key) const {
 }
 
 Status parse_json(std::string_view text, std::string_view source, JsonValue& out) {
+    return parse_json(text, source, JsonOptions{}, out);
+}
+
+Status parse_json(std::string_view text, std::string_view source, const JsonOptions& options,
+                  JsonValue& out) {
     out = JsonValue{};
     try {
         JsonValue root;
-        Parser parser(text, source);
+        Parser parser(text, source, options);
         if (Status s = parser.document(root); !s) return s;
         out = std::move(root);
         return Status::ok();

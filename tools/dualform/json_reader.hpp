@@ -39,7 +39,11 @@ struct JsonValue {
     JsonPosition at;  // of its first character
     bool boolean = false;
     double number = 0.0;
-    bool integer = false;             // a number written without fraction or exponent
+    bool integer = false;  // a number written without fraction or exponent
+    // A number beyond the range of a double, kept (as ±infinity, its text in
+    // `text`) only when JsonOptions::keep_huge_numbers asks for it, so the
+    // reader of a schema can name the field.
+    bool beyond_double = false;
     std::string text;                 // a string, UTF-8 with escapes resolved (may hold NUL)
     std::vector<JsonValue> items;     // an array's elements
     std::vector<JsonMember> members;  // an object's members in text order, keys unique
@@ -66,5 +70,11 @@ inline constexpr std::size_t json_max_depth = 256;
 // "SOURCE:LINE:COL: expected ..., found ...". On failure `out` is null.
 // Never throws; safe on any bytes. Thread-safe.
 Status parse_json(std::string_view text, std::string_view source, JsonValue& out);
+
+struct JsonOptions {
+    bool keep_huge_numbers = false;  // see JsonValue::beyond_double
+};
+Status parse_json(std::string_view text, std::string_view source, const JsonOptions& options,
+                  JsonValue& out);
 
 }  // namespace dfm::cli

@@ -176,6 +176,12 @@ private:
     Status typed(const Field& f, JsonType type, std::string_view what) const {
         if (!f.value) return error(f, "required field is missing");
         if (f.value->type != type) return expected(f, what);
+        if (f.value->beyond_double) {
+            std::string message = "the number ";
+            message += json_printable(f.value->text);
+            message += " is beyond the range of a double";
+            return error(f, message);
+        }
         return Status::ok();
     }
 
@@ -538,7 +544,7 @@ Status parse_scenario(std::string_view text, std::string_view source, Scenario& 
     out = Scenario{};
     try {
         JsonValue root;
-        if (Status s = parse_json(text, source, root); !s) return s;
+        if (Status s = parse_json(text, source, {.keep_huge_numbers = true}, root); !s) return s;
         Scenario scenario;
         if (Status s = ScenarioReader(source).scenario(root, scenario); !s) return s;
         out = std::move(scenario);
@@ -552,7 +558,7 @@ Status parse_camera(std::string_view text, std::string_view source, ScenarioCame
     out = ScenarioCamera{};
     try {
         JsonValue root;
-        if (Status s = parse_json(text, source, root); !s) return s;
+        if (Status s = parse_json(text, source, {.keep_huge_numbers = true}, root); !s) return s;
         ScenarioCamera camera;
         if (Status s = ScenarioReader(source).camera_document(root, camera); !s) return s;
         out = camera;
