@@ -128,8 +128,7 @@ private:
     // Solves for `targets` under solve_mutex_ and publishes the frame.
     Status solve_and_publish(std::span<const glm::dvec3> targets, std::uint64_t generation,
                              const std::atomic<bool>* interrupt);
-    void publish(std::uint64_t generation, const SolveReport& report, Errc status,
-                 bool partial);
+    void publish(std::uint64_t generation, const SolveReport& report, Errc status, bool partial);
     // Publishes the session's last good positions with a failure status, so
     // a host waiting for `generation` hears of it.
     void publish_failure(std::uint64_t generation, Errc status);

@@ -343,7 +343,7 @@ private:
         return Status::ok();
     }
 
-    // Reads "uXXXX", the cursor on the 'u'.
+    // Reads the four hex digits of a \u escape, the cursor on the 'u'.
     Status code_unit(std::uint32_t& unit) {
         advance();
         unit = 0;
