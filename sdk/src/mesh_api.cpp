@@ -215,32 +215,36 @@ extern "C" DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh,
     });
 }
 
-extern "C" DFM_API dfm_result dfm_mesh_undo_bake(dfm_mesh* mesh) {
-    constexpr const char* fn = "dfm_mesh_undo_bake";
+namespace {
+
+// Undo and redo: the current rest pose goes on one history stack and the top
+// of the other becomes current. The push is reserved first, so running out
+// of memory changes nothing.
+dfm_result step_history(const char* fn, dfm_mesh* mesh, bool undo) {
     if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
     return guarded(fn, [&] {
         MeshState& state = *mesh->state;
         std::lock_guard<std::mutex> lock(state.mutex);
-        if (state.undo.empty()) return report(fn, DFM_ERROR_NOT_FOUND, "no bake to undo");
-        state.redo.reserve(state.redo.size() + 1);
-        state.redo.push_back(state.model);
-        state.model = state.undo.back();
-        state.undo.pop_back();
+        auto& from = undo ? state.undo : state.redo;
+        auto& to = undo ? state.redo : state.undo;
+        if (from.empty()) {
+            return report(fn, DFM_ERROR_NOT_FOUND,
+                          undo ? "no bake to undo" : "no undone bake to redo");
+        }
+        to.reserve(to.size() + 1);
+        to.push_back(state.model);
+        state.model = from.back();
+        from.pop_back();
         return DFM_OK;
     });
 }
 
+}  // namespace
+
+extern "C" DFM_API dfm_result dfm_mesh_undo_bake(dfm_mesh* mesh) {
+    return step_history("dfm_mesh_undo_bake", mesh, true);
+}
+
 extern "C" DFM_API dfm_result dfm_mesh_redo_bake(dfm_mesh* mesh) {
-    constexpr const char* fn = "dfm_mesh_redo_bake";
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
-    return guarded(fn, [&] {
-        MeshState& state = *mesh->state;
-        std::lock_guard<std::mutex> lock(state.mutex);
-        if (state.redo.empty()) return report(fn, DFM_ERROR_NOT_FOUND, "no undone bake to redo");
-        state.undo.reserve(state.undo.size() + 1);
-        state.undo.push_back(state.model);
-        state.model = state.redo.back();
-        state.redo.pop_back();
-        return DFM_OK;
-    });
+    return step_history("dfm_mesh_redo_bake", mesh, false);
 }

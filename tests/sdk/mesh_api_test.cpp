@@ -15,10 +15,6 @@ using namespace dfm::test;
 
 namespace {
 
-bool message_has(const char* text) {
-    return std::string(dfm_last_error_message()).find(text) != std::string::npos;
-}
-
 struct Context {
     dfm_context* context = nullptr;
     Context() { REQUIRE(dfm_context_create(nullptr, &context) == DFM_OK); }

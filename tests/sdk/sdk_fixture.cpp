@@ -72,4 +72,8 @@ std::string last_error() {
     return s;
 }
 
+bool message_has(const char* text) {
+    return std::string(dfm_last_error_message()).find(text) != std::string::npos;
+}
+
 }  // namespace dfm::test

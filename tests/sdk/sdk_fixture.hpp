@@ -39,4 +39,7 @@ std::uint64_t fnv1a(const void* data, std::size_t size);
 // "CODE: message" of the last failure on this thread, for CHECK messages.
 std::string last_error();
 
+// Whether the last failure's message on this thread contains `text`.
+bool message_has(const char* text);
+
 }  // namespace dfm::test

@@ -13,10 +13,6 @@ using namespace dfm::test;
 
 namespace {
 
-bool message_has(const char* text) {
-    return std::string(dfm_last_error_message()).find(text) != std::string::npos;
-}
-
 std::vector<double> read_all(dfm_session* s, dfm_frame_info* info, std::size_t n) {
     std::vector<double> xyz(3 * n);
     const dfm_vec3_output out = {xyz.data(), n, 0, DFM_SCALAR_FLOAT64};
