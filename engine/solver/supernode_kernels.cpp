@@ -207,13 +207,25 @@ template <std::size_t K>
                     s[c * w + j] -= dot4(h, l + w + j * m, below + c * h);
         }
     }
+    // The K chains of subtractions side by side, so that their latencies
+    // overlap.
     for (std::size_t j = w; j-- > 0;) {
         const double* lj = l + j * m;
-        for (std::size_t c = 0; c < kk; ++c) {
-            double* sc = s + c * w;
-            double v = sc[j];
-            for (std::size_t i = j + 1; i < w; ++i) v -= lj[i] * sc[i];
-            sc[j] = v / lj[j];
+        if constexpr (K != 0) {
+            double v[K];
+            for (std::size_t c = 0; c < K; ++c) v[c] = s[c * w + j];
+            for (std::size_t i = j + 1; i < w; ++i) {
+                const double f = lj[i];
+                for (std::size_t c = 0; c < K; ++c) v[c] -= f * s[c * w + i];
+            }
+            for (std::size_t c = 0; c < K; ++c) s[c * w + j] = v[c] / lj[j];
+        } else {
+            for (std::size_t c = 0; c < kk; ++c) {
+                double* sc = s + c * w;
+                double v = sc[j];
+                for (std::size_t i = j + 1; i < w; ++i) v -= lj[i] * sc[i];
+                sc[j] = v / lj[j];
+            }
         }
     }
     join_columns<K>(w, kk, s, own);
