@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <initializer_list>
 #include <memory>
@@ -30,7 +31,7 @@ namespace {
 constexpr const char* usage =
     "usage: dualform bench SCENARIO... [--repeat N] [--json FILE]\n"
     "       [--preconditioner cholesky|incomplete_cholesky|jacobi] [--workers N]\n"
-    "       [--no-prediction]";
+    "       [--no-prediction] [--tolerance T]";
 constexpr int drag_frames = 60;
 
 using Clock = std::chrono::steady_clock;
@@ -121,6 +122,7 @@ struct Overrides {
     std::optional<deform::Preconditioner> preconditioner;
     solver::ThreadPool* pool = nullptr;
     bool predict_frames = true;
+    std::optional<double> tolerance;
 };
 
 Status bench_scenario(const std::string& path, int repeat, const Overrides& overrides,
@@ -135,6 +137,7 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
     if (overrides.preconditioner) edit.settings.preconditioner = *overrides.preconditioner;
     edit.settings.pool = overrides.pool;
     edit.settings.predict_frames = overrides.predict_frames;
+    if (overrides.tolerance) edit.settings.tolerance = *overrides.tolerance;
 
     std::vector<double> setup, solve, per_iteration;
     SetupParts setup_parts;
@@ -200,6 +203,7 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
     json.key("workers").value(
         std::uint64_t{overrides.pool != nullptr ? overrides.pool->thread_count() : 1});
     json.key("frame_prediction").value(overrides.predict_frames);
+    json.key("tolerance").value(edit.settings.tolerance);
     write_spread(json, "setup_ms", setup);
     write_medians(json, "setup_parts_ms",
                   {{"rows", &setup_parts.rows},
@@ -280,6 +284,16 @@ int run_bench(std::span<const std::string_view> args) {
                 workers = 0;
             }
             if (workers < 1 || workers > 64) return bad_input("--workers: expected 1 to 64");
+        } else if (a == "--tolerance") {
+            double t = 0.0;
+            try {
+                t = i + 1 < args.size() ? std::stod(std::string(args[++i])) : 0.0;
+            } catch (const std::exception&) {
+                t = 0.0;
+            }
+            if (!(t > 0.0) || !std::isfinite(t))
+                return bad_input("--tolerance: expected a positive number");
+            overrides.tolerance = t;
         } else if (a == "--no-prediction") {
             overrides.predict_frames = false;
         } else if (a.starts_with("--")) {
