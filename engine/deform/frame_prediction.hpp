@@ -21,8 +21,8 @@ public:
     // `handles` targets, and forgets every frame.
     void reset(std::size_t size, std::size_t handles);
 
-    // Forgets every frame: the next start is not predicted (the positions
-    // were replaced, or a solve ended unconverged).
+    // Forgets every frame (the positions were replaced): the next starts
+    // are not predicted until two frames have converged again.
     void forget() { frames_ = 0; }
 
     // Records a converged frame: its solution and the targets it was for.
