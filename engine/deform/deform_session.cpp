@@ -266,7 +266,11 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
     report.predicted = settings_.predict_frames && predictor_.predict(targets_, current_);
     std::copy(current_.begin(), current_.end(), x_.begin());
     if (report.predicted) store_solution();
-    anderson_.restart();
+    if (report.predicted) {
+        anderson_.continue_history();
+    } else {
+        anderson_.restart();
+    }
     double smallest_update = std::numeric_limits<double>::infinity();
     for (int it = 0; it < settings_.max_iterations; ++it) {
         if (it > 0 && interrupt != nullptr && interrupt->load(std::memory_order_acquire)) {

@@ -34,8 +34,9 @@ struct DeformSettings {
     // 0 runs the plain iteration.
     int anderson_memory = 8;
     // Starts a solve whose targets moved on from the last two converged
-    // solves at the extrapolation of those solutions (FramePredictor); the
-    // iteration still runs to the tolerance. Off: from the last solution.
+    // solves at the extrapolation of those solutions (FramePredictor), with
+    // the Anderson history of the solves before it; the iteration still
+    // runs to the tolerance. Off: from the last solution, history cleared.
     bool predict_frames = true;
     // Threads for the factor and its solves (not owned; must outlive the
     // session). Null: the calling thread alone. Results do not depend on it.
