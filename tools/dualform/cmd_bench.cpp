@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <initializer_list>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <thread>
@@ -225,6 +226,9 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
     json.key("frames").value(std::uint64_t{drag_frames});
     json.key("unconverged_frames").value(std::uint64_t(unconverged));
     json.key("predicted_frames").value(std::uint64_t(predicted));
+    json.key("iterations")
+        .value(
+            std::uint64_t(std::accumulate(frame_iterations.begin(), frame_iterations.end(), 0.0)));
     write_spread(json, "frame_ms", frame_ms);
     write_spread(json, "iterations_per_frame", frame_iterations);
     write_medians(json, "iteration_parts_ms",
