@@ -23,6 +23,11 @@ public:
         has_previous_ = false;
     }
 
+    // Starts a new sequence of iterates but keeps the history, for a map
+    // that changed by a constant only (the next frame of a drag: G moves by
+    // N⁻¹ w² H Δt): the stored differences still describe it.
+    void continue_history() { has_previous_ = false; }
+
     // Given x and g = G(x), writes the next iterate into `next`. The first
     // step after a restart is the plain one, next = g.
     void step(std::span<const double> x, std::span<const double> g, std::span<double> next);

@@ -105,15 +105,23 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
                 s->soft_handles_.push_back(u.unknown_of_vertex[v]);
             }
         }
+        auto phase = std::chrono::steady_clock::now();
         s->rows_ = collect_rows(model, u);
+        s->setup_.rows_ms = elapsed_ms(phase);
+        phase = std::chrono::steady_clock::now();
         solver::CsrMatrix normal =
             assemble_normal_matrix(s->rows_, u.count(), s->soft_handles_, settings.handle_weight,
                                    settings.regularization, s->epsilon_);
+        s->setup_.assembly_ms = elapsed_ms(phase);
         const std::size_t normal_nonzeros = normal.nonzeros();
         if (Status st = s->linear_.setup(std::move(normal), settings.preconditioner, settings.pool);
             !st) {
             return st;
         }
+        const solver::CholeskyTimes factor_times = s->linear_.factor_times();
+        s->setup_.ordering_ms = factor_times.ordering_ms;
+        s->setup_.symbolic_ms = factor_times.symbolic_ms;
+        s->setup_.numeric_ms = factor_times.numeric_ms;
 
         s->positions_ = model.mesh.positions;
         s->targets_.resize(s->handle_vertices_.size());
@@ -127,6 +135,13 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         s->current_.resize(3 * u.count());
         s->next_.resize(3 * u.count());
         s->anderson_.reset(3 * u.count(), static_cast<std::size_t>(settings.anderson_memory));
+        s->predictor_.reset(3 * u.count(), s->handle_vertices_.size());
+        // The rest pose is the converged frame of the rest targets.
+        for (std::size_t i = 0; i < u.count(); ++i) {
+            const glm::dvec3& p = s->positions_[u.vertex_of_unknown[i]];
+            for (int c = 0; c < 3; ++c) s->current_[3 * i + c] = p[c];
+        }
+        s->predictor_.record(s->current_, s->targets_);
         s->setup_.unknowns = u.count();
         s->setup_.rows = s->rows_.size();
         s->setup_.normal_nonzeros = normal_nonzeros;
@@ -175,6 +190,7 @@ Status DeformSession::set_positions(std::span<const glm::dvec3> positions) {
         }
     }
     for (std::uint32_t v : unknowns_.vertex_of_unknown) positions_[v] = positions[v];
+    predictor_.forget();
     return Status::ok();
 }
 
@@ -247,8 +263,14 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
         const glm::dvec3& p = positions_[unknowns_.vertex_of_unknown[i]];
         for (int c = 0; c < 3; ++c) current_[3 * i + c] = p[c];
     }
+    report.predicted = settings_.predict_frames && predictor_.predict(targets_, current_);
     std::copy(current_.begin(), current_.end(), x_.begin());
-    anderson_.restart();
+    if (report.predicted) store_solution();
+    if (report.predicted) {
+        anderson_.continue_history();
+    } else {
+        anderson_.restart();
+    }
     double smallest_update = std::numeric_limits<double>::infinity();
     for (int it = 0; it < settings_.max_iterations; ++it) {
         if (it > 0 && interrupt != nullptr && interrupt->load(std::memory_order_acquire)) {
@@ -256,8 +278,13 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
             report.solve_ms = elapsed_ms(start);
             return Status::ok();
         }
+        auto phase = std::chrono::steady_clock::now();
         compute_dual_targets();
+        report.normals_ms += elapsed_ms(phase);
+        phase = std::chrono::steady_clock::now();
         compute_right_hand_side();
+        report.rhs_ms += elapsed_ms(phase);
+        phase = std::chrono::steady_clock::now();
         std::size_t krylov = 0;
         if (Status s = linear_.solve(rhs_, x_, settings_.linear_tolerance * diag,
                                      LinearSolver::Accuracy::one_step, krylov);
@@ -265,6 +292,7 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
             report.solve_ms = elapsed_ms(start);
             return s;
         }
+        report.linear_ms += elapsed_ms(phase);
         report.krylov_iterations += krylov;
         // The plain step's length |G(x) - x| is the convergence measure. NaN
         // fails every comparison, so a non-finite solution shows as a
@@ -293,9 +321,11 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
         // The extrapolated iterates are not monotone, and restarting at every
         // growth stalls them (measured on the whole cow); a step more than
         // twice the smallest so far means the history has gone astray.
+        phase = std::chrono::steady_clock::now();
         if (report.last_update > 2.0 * smallest_update) anderson_.restart();
         smallest_update = std::min(smallest_update, report.last_update);
         anderson_.step(current_, x_, next_);
+        report.anderson_ms += elapsed_ms(phase);
         std::copy(next_.begin(), next_.end(), current_.begin());
         std::copy(next_.begin(), next_.end(), x_.begin());
         store_solution();
@@ -307,8 +337,10 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
     // step, finite and already stored, stands.
     std::copy(x_.begin(), x_.end(), next_.begin());
     std::size_t krylov = 0;
+    const auto verify_start = std::chrono::steady_clock::now();
     const Status verified = linear_.solve(rhs_, x_, settings_.linear_tolerance * diag,
                                           LinearSolver::Accuracy::verified, krylov);
+    report.linear_ms += elapsed_ms(verify_start);
     report.krylov_iterations += krylov;
     report.linear_converged = verified.is_ok() && linear_.converged();
     if (report.linear_converged) {
@@ -318,6 +350,7 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
         report.linear_residual = std::numeric_limits<double>::quiet_NaN();
         std::copy(next_.begin(), next_.end(), x_.begin());
     }
+    if (report.converged) predictor_.record(x_, targets_);
     report.solve_ms = elapsed_ms(start);
     return Status::ok();
 }

@@ -9,6 +9,7 @@
 
 #include "core/status.hpp"
 #include "deform/anderson.hpp"
+#include "deform/frame_prediction.hpp"
 #include "deform/linear_solver.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
@@ -32,6 +33,11 @@ struct DeformSettings {
     // Steps of history for Anderson acceleration of the outer iteration;
     // 0 runs the plain iteration.
     int anderson_memory = 8;
+    // Starts a solve whose targets moved on from the last two converged
+    // solves at the extrapolation of those solutions (FramePredictor), with
+    // the Anderson history of the solves before it; the iteration still
+    // runs to the tolerance. Off: from the last solution, history cleared.
+    bool predict_frames = true;
     // Threads for the factor and its solves (not owned; must outlive the
     // session). Null: the calling thread alone. Results do not depend on it.
     solver::ThreadPool* pool = nullptr;
@@ -48,6 +54,13 @@ struct SolveReport {
     double linear_residual = 0.0;
     bool linear_converged = false;
     double solve_ms = 0.0;
+    // Where solve_ms went: the linear solves, the right-hand sides, the
+    // normals (dual targets) and the Anderson steps.
+    double linear_ms = 0.0;
+    double rhs_ms = 0.0;
+    double normals_ms = 0.0;
+    double anderson_ms = 0.0;
+    bool predicted = false;  // started from FramePredictor's extrapolation
     // Stopped early by the interrupt flag: positions hold the last iterate,
     // neither converged nor verified.
     bool interrupted = false;
@@ -58,6 +71,13 @@ struct SetupReport {
     std::size_t rows = 0;
     std::size_t normal_nonzeros = 0;
     double setup_ms = 0.0;
+    // Where setup_ms went: collecting the rows, assembling N, and the
+    // factor's ordering, symbolic and numeric phases.
+    double rows_ms = 0.0;
+    double assembly_ms = 0.0;
+    double ordering_ms = 0.0;
+    double symbolic_ms = 0.0;
+    double numeric_ms = 0.0;
 };
 
 // One edit of one ROI with fixed handle groups: the system is assembled and
@@ -129,6 +149,7 @@ private:
     std::vector<double> current_;           // the iterate the dual targets come from
     std::vector<double> next_;
     AndersonAccelerator anderson_;
+    FramePredictor predictor_;
     SetupReport setup_;
 };
 

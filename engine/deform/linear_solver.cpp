@@ -91,6 +91,12 @@ bool LinearSolver::converged() const {
     return state_->result.converged;
 }
 
+solver::CholeskyTimes LinearSolver::factor_times() const {
+    const auto* cholesky =
+        dynamic_cast<const solver::CholeskyPreconditioner*>(state_->preconditioner.get());
+    return cholesky != nullptr ? cholesky->factor().times() : solver::CholeskyTimes{};
+}
+
 double LinearSolver::relative_residual() const {
     double worst = 0.0;
     for (const solver::PbcgColumnResult& c : state_->result.columns) {

@@ -6,6 +6,7 @@
 
 #include "core/status.hpp"
 #include "solver/csr_matrix.hpp"
+#include "solver/sparse_cholesky.hpp"
 #include "solver/thread_pool.hpp"
 
 namespace dfm::deform {
@@ -50,6 +51,10 @@ public:
     // The largest ‖b − N x‖ / ‖b‖ over the three columns after the last
     // solve that ran the Krylov iteration (every verified one does).
     double relative_residual() const;
+
+    // The phases of the complete factor's set-up (zero for the other
+    // preconditioners).
+    solver::CholeskyTimes factor_times() const;
 
 private:
     struct State;

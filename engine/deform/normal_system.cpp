@@ -5,13 +5,37 @@
 
 namespace dfm::deform {
 
+namespace {
+
+// The faces whose dual rows can touch an unknown: a row reads its face's
+// vertices and its neighbours'. The others' rows are never computed, so
+// that a small ROI's set-up does not cost a pass of dual_row over the
+// whole mesh.
+std::vector<std::uint8_t> faces_near_unknowns(const MeshModel& model,
+                                              const UnknownMap& unknowns) {
+    const mesh::Mesh& mesh = model.mesh;
+    std::vector<std::uint8_t> holds(mesh.face_count(), 0);
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f)
+        for (std::uint32_t v : mesh.triangles[f])
+            holds[f] |= unknowns.unknown_of_vertex[v] != mesh::no_index;
+    std::vector<std::uint8_t> near(holds);
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
+        if (!model.dual.has_row[f]) continue;
+        for (std::uint32_t g : model.dual.neighbors[f]) near[f] |= holds[g];
+    }
+    return near;
+}
+
+}  // namespace
+
 SystemRows collect_rows(const MeshModel& model, const UnknownMap& unknowns) {
     const mesh::Mesh& mesh = model.mesh;
     SystemRows rows;
     rows.entry_offsets.push_back(0);
     std::vector<std::uint8_t> needs_centroid(mesh.face_count(), 0);
+    const std::vector<std::uint8_t> near = faces_near_unknowns(model, unknowns);
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
-        if (!model.dual.has_row[f]) continue;
+        if (!model.dual.has_row[f] || !near[f]) continue;
         const dual::DualRow row = dual::dual_row(mesh, model.dual, f);
         bool touches_unknown = false;
         for (std::uint32_t k = 0; k < row.size; ++k) {

@@ -1,39 +1,24 @@
 #include <algorithm>
 #include <cstddef>
 
-#include "solver/dense_kernels.hpp"
 #include "solver/sparse_cholesky.hpp"
+#include "solver/supernode_kernels.hpp"
 
 namespace dfm::solver {
 
 namespace {
 
 // L y = y over one supernode: its diagonal block, then the updates it makes
-// to the rows below it, pushed into those rows that come before `push_end`
-// (gathered into `below`, one column per vector, and scattered back).
+// to the rows below it, pushed into those rows that come before `push_end`.
 void forward_supernode(const CholeskySymbolic& sym, std::span<const double> values, std::uint32_t s,
-                       double* y, std::size_t k, double* below, std::uint32_t push_end) {
+                       double* y, std::size_t k, double* scratch, std::uint32_t push_end) {
     const std::size_t first = sym.column_begin[s];
     const std::size_t w = sym.column_begin[s + 1] - first;
     const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
     const std::uint32_t* rows = &sym.rows[sym.row_begin[s]] + w;
-    const double* l = &values[sym.value_begin[s]];
-    double* yf = y + first * k;
-    for (std::size_t j = 0; j < w; ++j) {
-        const double* lj = l + j * m;
-        double* yj = yf + j * k;
-        for (std::size_t c = 0; c < k; ++c) yj[c] /= lj[j];
-        for (std::size_t i = j + 1; i < w; ++i)
-            for (std::size_t c = 0; c < k; ++c) yf[i * k + c] -= lj[i] * yj[c];
-    }
-    const std::size_t h =
+    const std::size_t push =
         static_cast<std::size_t>(std::lower_bound(rows, rows + (m - w), push_end) - rows);
-    if (h == 0) return;
-    for (std::size_t t = 0; t < h; ++t)
-        for (std::size_t c = 0; c < k; ++c) below[c * h + t] = y[rows[t] * k + c];
-    dense::subtract_product(h, w, k, l + w, m, yf, below);
-    for (std::size_t t = 0; t < h; ++t)
-        for (std::size_t c = 0; c < k; ++c) y[rows[t] * k + c] = below[c * h + t];
+    supernode::forward(m, w, push, k, &values[sym.value_begin[s]], rows, y + first * k, y, scratch);
 }
 
 // The updates of all its descendants into supernode s's own entries, pulled
@@ -60,29 +45,15 @@ void pull_updates(const CholeskySymbolic& sym, std::span<const double> values, s
     }
 }
 
-// Lᵀ y = y over one supernode: its rows below, gathered into `below` (one
-// column per vector), then its diagonal block. Writes only its own entries.
+// Lᵀ y = y over one supernode: its rows below, then its diagonal block.
+// Writes only its own entries.
 void backward_supernode(const CholeskySymbolic& sym, std::span<const double> values,
-                        std::uint32_t s, double* y, std::size_t k, double* below) {
+                        std::uint32_t s, double* y, std::size_t k, double* scratch) {
     const std::size_t first = sym.column_begin[s];
     const std::size_t w = sym.column_begin[s + 1] - first;
     const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
-    const std::size_t h = m - w;
-    const std::uint32_t* rows = &sym.rows[sym.row_begin[s]] + w;
-    const double* l = &values[sym.value_begin[s]];
-    double* yf = y + first * k;
-    if (h > 0) {
-        for (std::size_t t = 0; t < h; ++t)
-            for (std::size_t c = 0; c < k; ++c) below[c * h + t] = y[rows[t] * k + c];
-        dense::subtract_transposed_product(h, w, k, l + w, m, below, yf);
-    }
-    for (std::size_t j = w; j-- > 0;) {
-        const double* lj = l + j * m;
-        double* yj = yf + j * k;
-        for (std::size_t i = j + 1; i < w; ++i)
-            for (std::size_t c = 0; c < k; ++c) yj[c] -= lj[i] * yf[i * k + c];
-        for (std::size_t c = 0; c < k; ++c) yj[c] /= lj[j];
-    }
+    supernode::backward(m, w, k, &values[sym.value_begin[s]], &sym.rows[sym.row_begin[s]] + w,
+                        y + first * k, y, scratch);
 }
 
 }  // namespace

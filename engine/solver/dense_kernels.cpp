@@ -160,39 +160,6 @@ DFM_TARGET_AVX2 void product_nt_avx2(std::size_t m, std::size_t n, std::size_t k
     }
 }
 
-[[gnu::always_inline]] inline void subtract_product_body(std::size_t h, std::size_t w,
-                                                         std::size_t k, const double* l,
-                                                         std::size_t ldl, const double* x,
-                                                         double* y) {
-    for (std::size_t c = 0; c < k; ++c) {
-        double* yc = y + c * h;
-        for (std::size_t j = 0; j < w; ++j) {
-            const double f = x[j * k + c];
-            const double* lj = l + j * ldl;
-            for (std::size_t t = 0; t < h; ++t) yc[t] -= lj[t] * f;
-        }
-    }
-}
-
-[[gnu::always_inline]] inline void subtract_transposed_product_body(std::size_t h, std::size_t w,
-                                                                    std::size_t k, const double* l,
-                                                                    std::size_t ldl,
-                                                                    const double* y, double* x) {
-    const std::size_t h4 = h - h % 4;
-    for (std::size_t j = 0; j < w; ++j) {
-        const double* lj = l + j * ldl;
-        for (std::size_t c = 0; c < k; ++c) {
-            const double* yc = y + c * h;
-            double sum[4] = {0.0, 0.0, 0.0, 0.0};
-            for (std::size_t t = 0; t < h4; t += 4)
-                for (std::size_t lane = 0; lane < 4; ++lane)
-                    sum[lane] += lj[t + lane] * yc[t + lane];
-            for (std::size_t t = h4; t < h; ++t) sum[t - h4] += lj[t] * yc[t];
-            x[j * k + c] -= (sum[0] + sum[1]) + (sum[2] + sum[3]);
-        }
-    }
-}
-
 #if DFM_HAS_AVX2_KERNELS
 DFM_TARGET_AVX2 std::size_t factor_diagonal_avx2(std::size_t w, double* p, std::size_t ld) {
     return factor_diagonal_body(w, p, ld);
@@ -204,17 +171,6 @@ DFM_TARGET_AVX2 void solve_right_lower_transposed_avx2(std::size_t m, std::size_
     solve_right_lower_transposed_body(m, w, l, ldl, x, ldx);
 }
 
-DFM_TARGET_AVX2 void subtract_product_avx2(std::size_t h, std::size_t w, std::size_t k,
-                                           const double* l, std::size_t ldl, const double* x,
-                                           double* y) {
-    subtract_product_body(h, w, k, l, ldl, x, y);
-}
-
-DFM_TARGET_AVX2 void subtract_transposed_product_avx2(std::size_t h, std::size_t w, std::size_t k,
-                                                      const double* l, std::size_t ldl,
-                                                      const double* y, double* x) {
-    subtract_transposed_product_body(h, w, k, l, ldl, y, x);
-}
 #endif
 
 }  // namespace
@@ -252,22 +208,6 @@ void solve_right_lower_transposed(std::size_t m, std::size_t w, const double* l,
     if (avx2_available()) return solve_right_lower_transposed_avx2(m, w, l, ldl, x, ldx);
 #endif
     solve_right_lower_transposed_body(m, w, l, ldl, x, ldx);
-}
-
-void subtract_product(std::size_t h, std::size_t w, std::size_t k, const double* l, std::size_t ldl,
-                      const double* x, double* y) {
-#if DFM_HAS_AVX2_KERNELS
-    if (avx2_available()) return subtract_product_avx2(h, w, k, l, ldl, x, y);
-#endif
-    subtract_product_body(h, w, k, l, ldl, x, y);
-}
-
-void subtract_transposed_product(std::size_t h, std::size_t w, std::size_t k, const double* l,
-                                 std::size_t ldl, const double* y, double* x) {
-#if DFM_HAS_AVX2_KERNELS
-    if (avx2_available()) return subtract_transposed_product_avx2(h, w, k, l, ldl, y, x);
-#endif
-    subtract_transposed_product_body(h, w, k, l, ldl, y, x);
 }
 
 std::size_t factor_panel(std::size_t m, std::size_t w, double* p, std::size_t ld) {

@@ -27,18 +27,6 @@ std::size_t factor_diagonal(std::size_t w, double* p, std::size_t ld);
 void solve_right_lower_transposed(std::size_t m, std::size_t w, const double* l, std::size_t ldl,
                                   double* x, std::size_t ldx);
 
-// Y −= L X for the triangular solves: Y is h×k column-major (leading
-// dimension h), L h×w (leading dimension ldl), X w×k interleaved (x[j k + c]).
-// Each entry subtracts its terms one by one, j ascending.
-void subtract_product(std::size_t h, std::size_t w, std::size_t k, const double* l, std::size_t ldl,
-                      const double* x, double* y);
-
-// X −= Lᵀ Y, shapes as above: each entry of X subtracts one sum, accumulated
-// in four interleaved partial sums over t (t mod 4), combined as
-// (s0 + s1) + (s2 + s3).
-void subtract_transposed_product(std::size_t h, std::size_t w, std::size_t k, const double* l,
-                                 std::size_t ldl, const double* y, double* x);
-
 // Factors the m×w panel P = [P11; P21] in place, P11 being w×w symmetric:
 // P11 = L11 L11ᵀ, P21 ← P21 L11⁻ᵀ, in blocks of `panel_block` columns (the
 // diagonal block, the rows below it, then the update of the columns to its

@@ -34,11 +34,29 @@ void residual(const CsrMatrix& a, std::span<const double> b, std::span<const dou
     for (std::size_t i = 0; i < a.rows * k; ++i) r[i] = b[i] - r[i];
 }
 
-}  // namespace
+// The vectors and per-column scalars of one solve, views into the
+// workspace. The shadow sequence has its own vectors in general and is the
+// primal one when A and M are symmetric.
+struct Iterate {
+    std::size_t n, k;
+    bool general;
+    std::span<double> r, z, p, q;
+    std::span<double> rs, zs, ps, qs;
+    std::span<double> partial, rho, rho_old, pq, error, b_norm, best;
+    std::span<std::size_t> stalled;
+    unsigned char* active;
+    std::size_t running = 0;  // columns still iterating
 
-Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double> b,
-                  std::span<double> x, std::size_t k, const PbcgOptions& options,
-                  PbcgWorkspace& work, PbcgResult& result) {
+    // Stops column c for good.
+    void stop(std::size_t c) {
+        active[c] = 0;
+        --running;
+    }
+};
+
+Status check_arguments(const CsrMatrix& a, const Preconditioner& m, std::span<const double> b,
+                       std::span<const double> x, std::size_t k, const PbcgOptions& options,
+                       const PbcgWorkspace& work) {
     const std::size_t n = a.rows;
     if (a.rows != a.cols) return {Errc::invalid_argument, "PBCG: the matrix is not square"};
     if (k == 0) return {Errc::invalid_argument, "PBCG: no right-hand side (k = 0)"};
@@ -58,133 +76,171 @@ Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double>
                                             " preconditioner is not set up for this matrix"};
     if (!(options.tolerance >= 0.0))
         return {Errc::invalid_argument, "PBCG: the tolerance must be a number ≥ 0"};
+    return Status::ok();
+}
 
+// z = M⁻¹ r (and the shadow's), the error estimate max |z| and ρ = z̃ᵀ r.
+void precondition(Preconditioner& m, Iterate& it, ThreadPool* pool) {
+    m.apply(it.r, it.z, it.k);
+    if (it.general) m.apply_transposed(it.rs, it.zs, it.k);
+    kernels::max_abs(it.z, it.n, it.k, it.error, it.partial, pool);
+    kernels::dot(it.zs, it.r, it.n, it.k, it.rho, it.partial, pool);
+}
+
+// p = z + β p (p = z on the first iteration) for every running column;
+// a column whose ρ vanished breaks down.
+void update_directions(Iterate& it, bool first, PbcgResult& result) {
+    const std::size_t n = it.n;
+    const std::size_t k = it.k;
+    for (std::size_t c = 0; c < k; ++c) {
+        if (!it.active[c]) continue;
+        if (!usable(it.rho[c])) {
+            result.columns[c].breakdown = true;
+            it.stop(c);
+            continue;
+        }
+        const double beta = first ? 0.0 : it.rho[c] / it.rho_old[c];
+        for (std::size_t i = 0; i < n; ++i)
+            it.p[i * k + c] = first ? it.z[i * k + c] : it.z[i * k + c] + beta * it.p[i * k + c];
+        if (it.general)
+            for (std::size_t i = 0; i < n; ++i)
+                it.ps[i * k + c] =
+                    first ? it.zs[i * k + c] : it.zs[i * k + c] + beta * it.ps[i * k + c];
+    }
+}
+
+// q = A p, α = ρ / p̃ᵀ q and x += α p for every running column (the shadow
+// residual steps by −α q̃); a column whose p̃ᵀ q vanished breaks down.
+void step_solution(const CsrMatrix& a, std::span<double> x, Iterate& it, ThreadPool* pool,
+                   PbcgResult& result) {
+    const std::size_t n = it.n;
+    const std::size_t k = it.k;
+    kernels::multiply(a, it.p, it.q, k, pool);
+    if (it.general) a.multiply_transposed(it.ps, it.qs, k);
+    kernels::dot(it.ps, it.q, n, k, it.pq, it.partial, pool);
+    for (std::size_t c = 0; c < k; ++c) {
+        if (!it.active[c]) continue;
+        const double alpha = it.rho[c] / it.pq[c];
+        if (!usable(it.pq[c]) || !std::isfinite(alpha)) {
+            result.columns[c].breakdown = true;
+            it.stop(c);
+            continue;
+        }
+        for (std::size_t i = 0; i < n; ++i) x[i * k + c] += alpha * it.p[i * k + c];
+        if (it.general)
+            for (std::size_t i = 0; i < n; ++i) it.rs[i * k + c] -= alpha * it.qs[i * k + c];
+        ++result.columns[c].iterations;
+    }
+}
+
+// Stops the columns that converged, and those whose error estimate has
+// not reached a new smallest value for `stagnation_limit` iterations (0:
+// never).
+void judge_columns(Iterate& it, double tolerance, std::size_t stagnation_limit,
+                   PbcgResult& result) {
+    for (std::size_t c = 0; c < it.k; ++c) {
+        if (!it.active[c]) continue;
+        if (it.error[c] <= tolerance) {
+            result.columns[c].converged = true;
+        } else if (it.error[c] < it.best[c]) {
+            it.best[c] = it.error[c];
+            it.stalled[c] = 0;
+            continue;
+        } else if (++it.stalled[c] < stagnation_limit || stagnation_limit == 0) {
+            continue;
+        } else {
+            result.columns[c].stagnated = true;
+        }
+        it.stop(c);
+    }
+}
+
+// Each column's last error estimate and true relative residual, and the
+// totals.
+void summarize(std::span<const double> b, Iterate& it, ThreadPool* pool, PbcgResult& result) {
+    kernels::dot(it.r, it.r, it.n, it.k, it.pq, it.partial, pool);
+    kernels::dot(b, b, it.n, it.k, it.b_norm, it.partial, pool);
+    result.iterations = 0;
+    result.converged = true;
+    for (std::size_t c = 0; c < it.k; ++c) {
+        PbcgColumnResult& column = result.columns[c];
+        column.error_estimate = it.error[c];
+        column.relative_residual =
+            it.b_norm[c] > 0.0 ? std::sqrt(it.pq[c] / it.b_norm[c]) : std::sqrt(it.pq[c]);
+        result.iterations = std::max(result.iterations, column.iterations);
+        result.converged = result.converged && column.converged;
+    }
+}
+
+}  // namespace
+
+Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double> b,
+                  std::span<double> x, std::size_t k, const PbcgOptions& options,
+                  PbcgWorkspace& work, PbcgResult& result) {
+    if (Status st = check_arguments(a, m, b, x, k, options, work); !st) return st;
+    const std::size_t n = a.rows;
     ThreadPool* pool = options.pool;
     constexpr std::size_t exact_stagnation_limit = 3;
     const std::size_t stagnation_limit = options.stagnation_limit != 0 ? options.stagnation_limit
                                          : m.is_exact()                ? exact_stagnation_limit
                                                                        : 0;
     const bool general = !options.symmetric;
-    const std::span<double> r(work.r_.data(), n * k);
-    const std::span<double> z(work.z_.data(), n * k);
-    const std::span<double> p(work.p_.data(), n * k);
-    const std::span<double> q(work.q_.data(), n * k);
-    // The shadow sequence: its own vectors in general, the primal ones
-    // when A and M are symmetric.
-    const std::span<double> rs = general ? std::span(work.shadow_r_.data(), n * k) : r;
-    const std::span<double> zs = general ? std::span(work.shadow_z_.data(), n * k) : z;
-    const std::span<double> ps = general ? std::span(work.shadow_p_.data(), n * k) : p;
-    const std::span<double> qs = general ? std::span(work.shadow_q_.data(), n * k) : q;
-    const std::span<double> partial = work.partial_;
-    const std::span<double> rho(work.rho_.data(), k);
-    const std::span<double> rho_old(work.rho_old_.data(), k);
-    const std::span<double> pq(work.pq_.data(), k);
-    const std::span<double> error(work.error_.data(), k);
-    const std::span<double> b_norm(work.b_norm_.data(), k);
-    const std::span<double> best(work.best_.data(), k);
-    const std::span<std::size_t> stalled(work.stalled_.data(), k);
-    unsigned char* active = work.active_.data();
+    const auto vector = [&](std::vector<double>& v) { return std::span(v.data(), n * k); };
+    const auto scalars = [&](std::vector<double>& v) { return std::span(v.data(), k); };
+    Iterate it{.n = n,
+               .k = k,
+               .general = general,
+               .r = vector(work.r_),
+               .z = vector(work.z_),
+               .p = vector(work.p_),
+               .q = vector(work.q_),
+               .rs = general ? vector(work.shadow_r_) : vector(work.r_),
+               .zs = general ? vector(work.shadow_z_) : vector(work.z_),
+               .ps = general ? vector(work.shadow_p_) : vector(work.p_),
+               .qs = general ? vector(work.shadow_q_) : vector(work.q_),
+               .partial = work.partial_,
+               .rho = scalars(work.rho_),
+               .rho_old = scalars(work.rho_old_),
+               .pq = scalars(work.pq_),
+               .error = scalars(work.error_),
+               .b_norm = scalars(work.b_norm_),
+               .best = scalars(work.best_),
+               .stalled = std::span(work.stalled_.data(), k),
+               .active = work.active_.data(),
+               .running = 0};
 
     result.columns.resize(k);
     for (PbcgColumnResult& column : result.columns) column = PbcgColumnResult{};
     m.reserve(k);
 
-    // r = b − A x, so that a warm start is judged on its true error.
-    residual(a, b, x, r, k, pool);
-    if (general)
-        for (std::size_t i = 0; i < n * k; ++i) rs[i] = r[i];
-    m.apply(r, z, k);
-    if (general) m.apply_transposed(rs, zs, k);
-    kernels::max_abs(z, n, k, error, partial, pool);
-    kernels::dot(zs, r, n, k, rho, partial, pool);
-    std::size_t running = 0;
+    // A warm start is judged on its true error: the first residual comes
+    // from x, as every later one does.
+    residual(a, b, x, it.r, k, pool);
+    if (general) std::copy(it.r.begin(), it.r.end(), it.rs.begin());
+    precondition(m, it, pool);
     for (std::size_t c = 0; c < k; ++c) {
-        best[c] = error[c];
-        stalled[c] = 0;
-        result.columns[c].converged = error[c] <= options.tolerance;
-        active[c] = !result.columns[c].converged;
-        running += active[c];
+        it.best[c] = it.error[c];
+        it.stalled[c] = 0;
+        result.columns[c].converged = it.error[c] <= options.tolerance;
+        it.active[c] = !result.columns[c].converged;
+        it.running += it.active[c];
     }
 
-    for (std::size_t iteration = 0; iteration < options.max_iterations && running > 0;
+    for (std::size_t iteration = 0; iteration < options.max_iterations && it.running > 0;
          ++iteration) {
-        for (std::size_t c = 0; c < k; ++c) {
-            if (!active[c]) continue;
-            if (!usable(rho[c])) {
-                result.columns[c].breakdown = true;
-                active[c] = 0;
-                --running;
-                continue;
-            }
-            if (iteration == 0) {
-                for (std::size_t i = 0; i < n; ++i) p[i * k + c] = z[i * k + c];
-                if (general)
-                    for (std::size_t i = 0; i < n; ++i) ps[i * k + c] = zs[i * k + c];
-                continue;
-            }
-            const double beta = rho[c] / rho_old[c];
-            for (std::size_t i = 0; i < n; ++i) p[i * k + c] = z[i * k + c] + beta * p[i * k + c];
-            if (general)
-                for (std::size_t i = 0; i < n; ++i)
-                    ps[i * k + c] = zs[i * k + c] + beta * ps[i * k + c];
-        }
-        if (running == 0) break;
-        kernels::multiply(a, p, q, k, pool);
-        if (general) a.multiply_transposed(ps, qs, k);
-        kernels::dot(ps, q, n, k, pq, partial, pool);
-        for (std::size_t c = 0; c < k; ++c) {
-            if (!active[c]) continue;
-            const double alpha = rho[c] / pq[c];
-            if (!usable(pq[c]) || !std::isfinite(alpha)) {
-                result.columns[c].breakdown = true;
-                active[c] = 0;
-                --running;
-                continue;
-            }
-            for (std::size_t i = 0; i < n; ++i) x[i * k + c] += alpha * p[i * k + c];
-            if (general)
-                for (std::size_t i = 0; i < n; ++i) rs[i * k + c] -= alpha * qs[i * k + c];
-            ++result.columns[c].iterations;
-        }
+        update_directions(it, iteration == 0, result);
+        if (it.running == 0) break;
+        step_solution(a, x, it, pool, result);
         // The residual recomputed from x rather than updated by −αq: an
         // updated residual keeps shrinking below what rounding in x allows
         // and would report convergence that is not there.
-        residual(a, b, x, r, k, pool);
-        m.apply(r, z, k);
-        if (general) m.apply_transposed(rs, zs, k);
-        kernels::max_abs(z, n, k, error, partial, pool);
-        for (std::size_t c = 0; c < k; ++c) rho_old[c] = rho[c];
-        kernels::dot(zs, r, n, k, rho, partial, pool);
-        for (std::size_t c = 0; c < k; ++c) {
-            if (!active[c]) continue;
-            if (error[c] <= options.tolerance) {
-                result.columns[c].converged = true;
-            } else if (error[c] < best[c]) {
-                best[c] = error[c];
-                stalled[c] = 0;
-                continue;
-            } else if (++stalled[c] < stagnation_limit || stagnation_limit == 0) {
-                continue;
-            } else {
-                result.columns[c].stagnated = true;
-            }
-            active[c] = 0;
-            --running;
-        }
+        residual(a, b, x, it.r, k, pool);
+        for (std::size_t c = 0; c < k; ++c) it.rho_old[c] = it.rho[c];
+        precondition(m, it, pool);
+        judge_columns(it, options.tolerance, stagnation_limit, result);
     }
 
-    kernels::dot(r, r, n, k, pq, partial, pool);
-    kernels::dot(b, b, n, k, b_norm, partial, pool);
-    result.iterations = 0;
-    result.converged = true;
-    for (std::size_t c = 0; c < k; ++c) {
-        PbcgColumnResult& column = result.columns[c];
-        column.error_estimate = error[c];
-        column.relative_residual =
-            b_norm[c] > 0.0 ? std::sqrt(pq[c] / b_norm[c]) : std::sqrt(pq[c]);
-        result.iterations = std::max(result.iterations, column.iterations);
-        result.converged = result.converged && column.converged;
-    }
+    summarize(b, it, pool, result);
     return Status::ok();
 }
 

@@ -1,6 +1,7 @@
 #include "solver/sparse_cholesky.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <limits>
 #include <string>
 
@@ -16,6 +17,11 @@ constexpr std::uint32_t no_failure = std::numeric_limits<std::uint32_t>::max();
 // Supernodes above the subtrees are split between threads from this much
 // estimated work on; below it, waking the threads costs more than it saves.
 constexpr double split_work = 2e5;
+
+double ms_since(std::chrono::steady_clock::time_point since) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)
+        .count();
+}
 
 // Copies A's entries into supernode s's block (zero elsewhere) and records
 // where each of its rows sits in its row list.
@@ -152,6 +158,78 @@ std::uint32_t factor_supernode_split(const CholeskySymbolic& sym, std::span<cons
     return no_failure;
 }
 
+// Room for each thread's scratch, made anew where the analysis outgrew it.
+void size_scratch(const CholeskySymbolic& sym, std::size_t threads,
+                  std::vector<CholeskyScratch>& scratch) {
+    while (scratch.size() < threads) scratch.emplace_back(sym);
+    for (CholeskyScratch& s : scratch)
+        if (s.position.size() != sym.n || s.block.size() < sym.max_update_size ||
+            s.relative.size() < sym.max_rows)
+            s = CholeskyScratch(sym);
+}
+
+// The failure to report: a failure stops the supernodes that depend on it,
+// and the one reported is the first in factor order, as a sequential run
+// would find it.
+struct FirstFailure {
+    std::uint32_t supernode = no_failure;
+    std::uint32_t column = no_failure;  // factor numbering
+
+    void record(std::uint32_t s, std::uint32_t failed_column) {
+        if (failed_column != no_failure && s < supernode) {
+            supernode = s;
+            column = failed_column;
+        }
+    }
+};
+
+// Every supernode on the calling thread, in order, up to the first failure.
+void factor_in_order(const CholeskySymbolic& sym, std::span<const double> a_values,
+                     std::span<double> l_values, CholeskyScratch& scratch, FirstFailure& failure) {
+    const auto s_count = static_cast<std::uint32_t>(sym.supernode_count());
+    for (std::uint32_t s = 0; s < s_count && failure.column == no_failure; ++s)
+        failure.record(s, factor_supernode(sym, a_values, l_values, s, scratch));
+}
+
+// The schedule's independent subtrees, each thread its own; a thread stops a
+// subtree at its first failure.
+void factor_subtrees(const CholeskySymbolic& sym, const CholeskySchedule& schedule,
+                     std::span<const double> a_values, std::span<double> l_values,
+                     std::span<CholeskyScratch> scratch, ThreadPool& pool, FirstFailure& failure) {
+    const std::size_t threads = pool.thread_count();
+    std::vector<FirstFailure> failures(threads);
+    pool.run(threads, [&](std::size_t t) {
+        for (const std::uint32_t root : schedule.subtrees[t]) {
+            for (std::uint32_t s = sym.subtree_begin[root]; s <= root; ++s) {
+                const std::uint32_t column =
+                    factor_supernode(sym, a_values, l_values, s, scratch[t]);
+                if (column == no_failure) continue;
+                failures[t].record(s, column);
+                break;
+            }
+        }
+    });
+    for (const FirstFailure& f : failures) failure.record(f.supernode, f.column);
+}
+
+// The supernodes above the subtrees, in order, the large ones split by rows
+// between the threads; none after the first failure so far.
+void factor_top(const CholeskySymbolic& sym, const CholeskySchedule& schedule,
+                std::span<const double> a_values, std::span<double> l_values,
+                std::span<CholeskyScratch> scratch, ThreadPool& pool, FirstFailure& failure) {
+    for (const std::uint32_t s : schedule.top) {
+        if (s > failure.supernode) break;
+        const std::uint32_t column =
+            sym.work[s] >= split_work
+                ? factor_supernode_split(sym, a_values, l_values, s, scratch, pool)
+                : factor_supernode(sym, a_values, l_values, s, scratch[0]);
+        if (column != no_failure) {
+            failure.record(s, column);
+            break;
+        }
+    }
+}
+
 }  // namespace
 
 CholeskyScratch::CholeskyScratch(const CholeskySymbolic& sym)
@@ -161,15 +239,26 @@ Status SparseCholesky::analyze(const CsrMatrix& a, OrderingMethod method) {
     factored_ = false;
     values_.clear();
     schedule_ = CholeskySchedule{};
+    times_ = CholeskyTimes{};
     if (a.rows != a.cols) return analyze_cholesky(a, std::span<const std::uint32_t>{}, symbolic_);
-    return analyze_cholesky(a, fill_reducing_ordering(a, method), symbolic_);
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<std::uint32_t> perm = fill_reducing_ordering(a, method);
+    times_.ordering_ms = ms_since(start);
+    const auto symbolic_start = std::chrono::steady_clock::now();
+    Status st = analyze_cholesky(a, perm, symbolic_);
+    times_.symbolic_ms = ms_since(symbolic_start);
+    return st;
 }
 
 Status SparseCholesky::analyze(const CsrMatrix& a, std::span<const std::uint32_t> perm) {
     factored_ = false;
     values_.clear();
     schedule_ = CholeskySchedule{};
-    return analyze_cholesky(a, perm, symbolic_);
+    times_ = CholeskyTimes{};
+    const auto start = std::chrono::steady_clock::now();
+    Status st = analyze_cholesky(a, perm, symbolic_);
+    times_.symbolic_ms = ms_since(start);
+    return st;
 }
 
 Status SparseCholesky::compute(const CsrMatrix& a, OrderingMethod method, ThreadPool* pool) {
@@ -184,65 +273,24 @@ Status SparseCholesky::factorize(const CsrMatrix& a, ThreadPool* pool) {
     if (!symbolic_.matches(a))
         return {Errc::invalid_argument,
                 "Cholesky: the matrix's pattern differs from the analysed one"};
+    const auto start = std::chrono::steady_clock::now();
     const CholeskySymbolic& sym = symbolic_;
-    values_.resize(sym.stored_values);
     const std::size_t threads = pool != nullptr ? pool->thread_count() : 1;
-    while (scratch_.size() < threads) scratch_.emplace_back(sym);
-    for (CholeskyScratch& s : scratch_)
-        if (s.position.size() != sym.n || s.block.size() < sym.max_update_size ||
-            s.relative.size() < sym.max_rows)
-            s = CholeskyScratch(sym);
-
-    // A failure stops the supernodes that depend on it; the one reported is
-    // the first in factor order, as a sequential run would find it.
-    std::uint32_t failed = no_failure;
-    std::uint32_t failed_supernode = no_failure;
-    const auto record = [&](std::uint32_t s, std::uint32_t column) {
-        if (column != no_failure && s < failed_supernode) {
-            failed_supernode = s;
-            failed = column;
-        }
-    };
-    const std::uint32_t s_count = static_cast<std::uint32_t>(sym.supernode_count());
+    values_.resize(sym.stored_values);
+    size_scratch(sym, threads, scratch_);
+    FirstFailure failure;
     if (threads == 1) {
-        for (std::uint32_t s = 0; s < s_count && failed == no_failure; ++s)
-            record(s, factor_supernode(sym, a.values, values_, s, scratch_[0]));
+        factor_in_order(sym, a.values, values_, scratch_[0], failure);
     } else {
         if (schedule_.subtrees.size() != threads) schedule_ = make_cholesky_schedule(sym, threads);
-        const CholeskySchedule& schedule = schedule_;
-        std::vector<std::uint32_t> first_failure(threads, no_failure);
-        std::vector<std::uint32_t> failure_column(threads, no_failure);
-        pool->run(threads, [&](std::size_t t) {
-            for (const std::uint32_t root : schedule.subtrees[t]) {
-                for (std::uint32_t s = sym.subtree_begin[root]; s <= root; ++s) {
-                    const std::uint32_t column =
-                        factor_supernode(sym, a.values, values_, s, scratch_[t]);
-                    if (column == no_failure) continue;
-                    if (s < first_failure[t]) {
-                        first_failure[t] = s;
-                        failure_column[t] = column;
-                    }
-                    break;
-                }
-            }
-        });
-        for (std::size_t t = 0; t < threads; ++t)
-            if (first_failure[t] != no_failure) record(first_failure[t], failure_column[t]);
-        for (const std::uint32_t s : schedule.top) {
-            if (s > failed_supernode) break;
-            const std::uint32_t column =
-                sym.work[s] >= split_work
-                    ? factor_supernode_split(sym, a.values, values_, s, scratch_, *pool)
-                    : factor_supernode(sym, a.values, values_, s, scratch_[0]);
-            if (column != no_failure) {
-                record(s, column);
-                break;
-            }
-        }
+        factor_subtrees(sym, schedule_, a.values, values_, scratch_, *pool, failure);
+        factor_top(sym, schedule_, a.values, values_, scratch_, *pool, failure);
     }
-    if (failed != no_failure)
+    times_.numeric_ms = ms_since(start);
+    if (failure.column != no_failure)
         return {Errc::numerical, "Cholesky: the matrix is not positive definite (pivot of row " +
-                                     std::to_string(sym.perm[failed]) + " is not positive)"};
+                                     std::to_string(sym.perm[failure.column]) +
+                                     " is not positive)"};
     factored_ = true;
     return Status::ok();
 }

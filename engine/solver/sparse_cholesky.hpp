@@ -24,6 +24,14 @@ struct CholeskyScratch {
     std::vector<double> block;
 };
 
+// Wall-clock times of the phases that built the current factor, in ms; an
+// analysis reused for a new matrix keeps its ordering and symbolic times.
+struct CholeskyTimes {
+    double ordering_ms = 0.0;
+    double symbolic_ms = 0.0;
+    double numeric_ms = 0.0;
+};
+
 // A complete sparse Cholesky factorization P A Pᵀ = L Lᵀ of a symmetric
 // positive definite matrix, supernodal and left-looking. The symbolic phase
 // (ordering, elimination tree, supernodes, layout) depends only on A's
@@ -53,6 +61,7 @@ public:
     bool is_factored() const { return factored_; }
     std::size_t size() const { return symbolic_.n; }
     const CholeskySymbolic& symbolic() const { return symbolic_; }
+    const CholeskyTimes& times() const { return times_; }
 
     // x = A⁻¹ b for k interleaved vectors (b[j * k + c] is entry j of vector
     // c), both in A's numbering, with one pass over the factor for all k;
@@ -74,6 +83,7 @@ private:
     CholeskySchedule schedule_;  // for the thread count of the last factorize
     std::vector<double> values_;
     std::vector<CholeskyScratch> scratch_;
+    CholeskyTimes times_;
     bool factored_ = false;
 };
 

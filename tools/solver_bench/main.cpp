@@ -17,6 +17,9 @@
 #include <thread>
 #include <vector>
 
+#ifdef DFM_SOLVER_BENCH_CHOLMOD
+#include "cholmod_peer.hpp"
+#endif
 #include "json.hpp"
 #include "measure.hpp"
 #include "mesh/load.hpp"
@@ -159,7 +162,23 @@ int main(int argc, char** argv) {
                  {solver::OrderingMethod::minimum_degree,
                   solver::OrderingMethod::nested_dissection})
                 write_factor(json, measure_factor(system, ordering, pool, repeat));
-            json.end_array().key("pcg").begin_array();
+            json.end_array();
+#ifdef DFM_SOLVER_BENCH_CHOLMOD
+            const CholmodMeasure cholmod = measure_cholmod(system, repeat);
+            if (cholmod.ok) {
+                json.key("cholmod")
+                    .begin_object()
+                    .field("ordering", "minimum degree (ours, given)")
+                    .field("symbolic_ms", cholmod.symbolic_ms)
+                    .field("numeric_ms", cholmod.numeric_ms)
+                    .field("solve_k3_ms", cholmod.solve_k3_ms)
+                    .field("solve_k3_min_ms", cholmod.solve_k3_min_ms)
+                    .field("factor_nonzeros", cholmod.factor_nonzeros)
+                    .field("solve_relative_residual", cholmod.solve_relative_residual)
+                    .end_object();
+            }
+#endif
+            json.key("pcg").begin_array();
             const Frame frame = make_frame(system, mesh, pool);
             const double tolerance = settings.tolerance * system.diagonal;
             for (const solver::PreconditionerKind kind :

@@ -1,0 +1,42 @@
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace dfm::deform {
+
+// Predicts where the next frame of a drag converges from the two frames
+// before it. A drag moves the targets smoothly, and the solution follows
+// them smoothly, so extrapolating the last step of the solution by the
+// share of the last target step that the new one repeats starts the outer
+// iteration much closer to its fixed point than the last frame does. Only
+// the start changes: the iteration still runs to its tolerance, so the
+// fixed point it reaches is the same.
+class FramePredictor {
+public:
+    // Sizes the history for `size` unknowns (interleaved x, y, z) and
+    // `handles` targets, and forgets every frame.
+    void reset(std::size_t size, std::size_t handles);
+
+    // Forgets every frame (the positions were replaced): the next starts
+    // are not predicted until two frames have converged again.
+    void forget() { frames_ = 0; }
+
+    // Records a converged frame: its solution and the targets it was for.
+    void record(std::span<const double> solution, std::span<const glm::dvec3> targets);
+
+    // Writes the predicted solution for `targets` into `start` and returns
+    // true, or leaves `start` alone and returns false when fewer than two
+    // frames are known or the last target step was zero.
+    bool predict(std::span<const glm::dvec3> targets, std::span<double> start) const;
+
+private:
+    std::size_t frames_ = 0;  // recorded since the last forget, at most 2 used
+    std::vector<double> last_, before_;
+    std::vector<glm::dvec3> last_targets_, before_targets_;
+};
+
+}  // namespace dfm::deform
