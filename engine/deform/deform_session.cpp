@@ -25,6 +25,10 @@ double face_area(const mesh::Mesh& mesh, std::span<const glm::dvec3> p, std::uin
 
 }  // namespace
 
+const char* method_name(DeformMethod m) {
+    return m == DeformMethod::paper ? "paper" : "fitted_rotations";
+}
+
 Status DeformSession::create(const MeshModel& model, std::span<const std::uint32_t> roi,
                              std::span<const std::vector<std::uint32_t>> handle_groups,
                              const DeformSettings& settings, std::unique_ptr<DeformSession>& out) {
@@ -34,11 +38,15 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
     if (!(settings.tolerance > 0.0) || settings.max_iterations < 1 ||
         !(settings.handle_weight > 0.0) || !(settings.regularization >= 0.0) ||
         !(settings.linear_tolerance > 0.0) || settings.anderson_memory < 0 ||
-        settings.anderson_memory > 50) {
+        settings.anderson_memory > 50 || !(settings.rigidity_weight >= 0.0) ||
+        !std::isfinite(settings.rigidity_weight) ||
+        (settings.method != DeformMethod::fitted_rotations &&
+         settings.method != DeformMethod::paper)) {
         return Status(Errc::invalid_argument,
                       "solver settings: tolerance, handle weight and linear tolerance must be "
                       "positive, the iteration cap at least 1, the regularization not negative, "
-                      "the Anderson memory from 0 to 50");
+                      "the Anderson memory from 0 to 50, the rigidity weight finite and not "
+                      "negative, the method one of fitted_rotations and paper");
     }
     try {
         std::unique_ptr<DeformSession> s(new DeformSession(model));
@@ -106,6 +114,9 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
             }
         }
         s->rows_ = collect_rows(model, u);
+        if (settings.method == DeformMethod::fitted_rotations) {
+            s->frames_.build(model, u, settings.rigidity_weight, s->rows_);
+        }
         solver::CsrMatrix normal =
             assemble_normal_matrix(s->rows_, u.count(), s->soft_handles_, settings.handle_weight,
                                    settings.regularization, s->epsilon_);
@@ -247,6 +258,7 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
         const glm::dvec3& p = positions_[unknowns_.vertex_of_unknown[i]];
         for (int c = 0; c < 3; ++c) current_[3 * i + c] = p[c];
     }
+    if (settings_.method == DeformMethod::fitted_rotations) return solve_fitted(report, control);
     std::copy(current_.begin(), current_.end(), x_.begin());
     anderson_.restart();
     double smallest_update = std::numeric_limits<double>::infinity();
@@ -301,6 +313,13 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
         store_solution();
         if (control != nullptr && control->on_iteration) control->on_iteration(report);
     }
+    verify_last_solve(report);
+    report.solve_ms = elapsed_ms(start);
+    return Status::ok();
+}
+
+void DeformSession::verify_last_solve(SolveReport& report) {
+    const double diag = model_.diagonal > 0.0 ? model_.diagonal : 1.0;
     // The last linear solve, confirmed to its tolerance: what the host gets
     // is the solution of the last system, not one unchecked step of it. On a
     // nearly singular system the confirmation can fail; then the unchecked
@@ -318,8 +337,6 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
         report.linear_residual = std::numeric_limits<double>::quiet_NaN();
         std::copy(next_.begin(), next_.end(), x_.begin());
     }
-    report.solve_ms = elapsed_ms(start);
-    return Status::ok();
 }
 
 }  // namespace dfm::deform

@@ -12,8 +12,22 @@
 #include "deform/linear_solver.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
+#include "deform/rigidity_rows.hpp"
 
 namespace dfm::deform {
+
+// The outer iteration (docs/method.md).
+enum class DeformMethod {
+    // Rotations fitted to each dual 1-ring turn the rest dual Laplacian
+    // coordinates, rigidity rows keep the dual edges' lengths, and Anderson
+    // steps are kept only when they lower the energy. Converges and keeps
+    // large bends unfolded.
+    fitted_rotations,
+    // The paper's: l_f = -h_f n_f from the plane of the new dual 1-ring.
+    paper,
+};
+
+const char* method_name(DeformMethod m);
 
 struct DeformSettings {
     double tolerance = 1e-5;  // largest vertex update / rest diagonal that ends the iteration
@@ -35,6 +49,11 @@ struct DeformSettings {
     // Threads for the factor and its solves (not owned; must outlive the
     // session). Null: the calling thread alone. Results do not depend on it.
     solver::ThreadPool* pool = nullptr;
+    DeformMethod method = DeformMethod::fitted_rotations;
+    // Weight of the rigidity rows against the dual Laplacian rows
+    // (fitted_rotations only; 0 leaves the fitted rotations alone). 0.1 is
+    // the fastest to converge on the camel's neck that folds no face.
+    double rigidity_weight = 0.1;
 };
 
 struct SolveReport {
@@ -51,6 +70,11 @@ struct SolveReport {
     // Stopped early by the interrupt flag: positions hold the last iterate,
     // neither converged nor verified.
     bool interrupted = false;
+    // fitted_rotations: the energy of the positions returned before the
+    // last solve (see deform_energy.hpp), and how many Anderson steps were
+    // refused for raising it. The paper's method reports 0 for both.
+    double energy = 0.0;
+    std::size_t rejected_steps = 0;
 };
 
 struct SetupReport {
@@ -111,6 +135,10 @@ private:
     void compute_dual_targets();
     void compute_right_hand_side();
     void store_solution();
+    void verify_last_solve(SolveReport& report);
+    // fitted_iteration.cpp
+    Status solve_fitted(SolveReport& report, const Control* control);
+    double fit_and_prepare(std::span<const double> x);
 
     const MeshModel& model_;
     DeformSettings settings_;
@@ -129,6 +157,8 @@ private:
     std::vector<double> current_;           // the iterate the dual targets come from
     std::vector<double> next_;
     AndersonAccelerator anderson_;
+    RotationFrames frames_;             // fitted_rotations only
+    std::vector<double> height_scale_;  // per dual row, with scale_heights
     SetupReport setup_;
 };
 

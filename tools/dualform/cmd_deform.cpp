@@ -130,6 +130,9 @@ int run_deform(std::span<const std::string_view> args) {
     json.key("linear_residual").value(solved.linear_residual);
     json.key("linear_converged").value(solved.linear_converged);
     json.key("preconditioner").value(deform::preconditioner_name(edit.settings.preconditioner));
+    json.key("method").value(deform::method_name(edit.settings.method));
+    json.key("energy").value(solved.energy);
+    json.key("rejected_steps").value(std::uint64_t{solved.rejected_steps});
     json.key("load_ms").value(std::chrono::duration<double, std::milli>(roi_start - start).count());
     write_quality(json, quality);
     json.end_object();

@@ -1,0 +1,108 @@
+#include "deform/rigidity_rows.hpp"
+
+#include <algorithm>
+
+#include <glm/geometric.hpp>
+#include <glm/gtx/quaternion.hpp>
+
+#include "deform/rotation_fit.hpp"
+
+namespace dfm::deform {
+
+namespace {
+
+// The vertex of triangle `t` that is not on the edge it shares with `other`.
+std::uint32_t opposite_vertex(const mesh::Triangle& t, const mesh::Triangle& other) {
+    for (std::uint32_t v : t) {
+        if (v != other[0] && v != other[1] && v != other[2]) return v;
+    }
+    return mesh::no_index;
+}
+
+// The face edges' rows against the dual edges' for an edge of mean length
+// (measured on the camel's neck: 0.1 leaves needles to fold, 0.3 slows
+// the iteration; docs/method.md).
+constexpr double relative_edge_weight = 0.2;
+
+}  // namespace
+
+void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, double weight,
+                           SystemRows& rows) {
+    const mesh::Mesh& mesh = model.mesh;
+    const std::size_t dual_rows = rows.size();
+    weight_ = weight;
+    first_row_ = dual_rows;
+    faces_.assign(rows.faces.begin(), rows.faces.end());
+    rest_dual_.resize(dual_rows);
+    rigid_offsets_.assign(1, 0);
+    rest_vectors_.clear();
+    rotations_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
+    saved_ = rotations_;
+    std::vector<glm::dvec3> rest(mesh.face_count());
+    dual::compute_centroids(mesh, mesh.positions, rest);
+    auto add = [&](std::uint32_t c, std::uint32_t d, double scale, std::uint32_t f) {
+        const std::uint32_t uc = unknowns.unknown_of_vertex[c];
+        const std::uint32_t ud = unknowns.unknown_of_vertex[d];
+        if (uc == mesh::no_index && ud == mesh::no_index) return;
+        rows.faces.push_back(f);
+        rows.entries.push_back({c, uc, weight * scale});
+        rows.entries.push_back({d, ud, -weight * scale});
+        rows.entry_offsets.push_back(static_cast<std::uint32_t>(rows.entries.size()));
+        rest_vectors_.push_back(scale * (mesh.positions[c] - mesh.positions[d]));
+    };
+    // Edge rows are relative: a needle's short edge gets the weight of its
+    // shortness. Lengths alone would let needles (the camel's head has edges
+    // 70 times shorter than their neighbours) turn over at no cost.
+    double mean_edge = 0.0;
+    for (const auto& e : model.topology.edges) {
+        mean_edge += glm::length(mesh.positions[e[0]] - mesh.positions[e[1]]);
+    }
+    mean_edge /= static_cast<double>(std::max<std::size_t>(model.topology.edges.size(), 1));
+    for (std::size_t r = 0; r < dual_rows; ++r) {
+        const std::uint32_t f = faces_[r];
+        const mesh::Triangle& t = mesh.triangles[f];
+        rest_dual_[r] = dual::dual_coordinate(model.dual, rest, f);
+        if (weight > 0.0) {
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t j = model.dual.neighbors[f][k];
+                const std::uint32_t c = opposite_vertex(t, mesh.triangles[j]);
+                const std::uint32_t d = opposite_vertex(mesh.triangles[j], t);
+                if (c != mesh::no_index && d != mesh::no_index) add(c, d, 1.0 / 3.0, f);
+                const std::uint32_t a = t[k];
+                const std::uint32_t b = t[(k + 1) % 3];
+                const double length = glm::length(mesh.positions[a] - mesh.positions[b]);
+                if (length > 0.0) add(a, b, relative_edge_weight * mean_edge / length, f);
+            }
+        }
+        rigid_offsets_.push_back(static_cast<std::uint32_t>(rest_vectors_.size()));
+    }
+}
+
+void RotationFrames::fit(const MeshModel& model, std::span<const glm::dvec3> centroids,
+                         std::span<const glm::dvec3> positions, const SystemRows& rows,
+                         std::span<const double> height_scale, std::span<glm::dvec3> targets) {
+    for (std::size_t r = 0; r < faces_.size(); ++r) {
+        const std::uint32_t f = faces_[r];
+        const double scale = height_scale.empty() ? 1.0 : height_scale[r];
+        const glm::dvec3 rest_dual = scale * rest_dual_[r];
+        glm::dmat3 covariance =
+            glm::outerProduct(dual::dual_coordinate(model.dual, centroids, f), rest_dual);
+        for (std::uint32_t s = rigid_offsets_[r]; s < rigid_offsets_[r + 1]; ++s) {
+            const std::size_t row = first_row_ + s;
+            const RowEntry& a = rows.entries[rows.entry_offsets[row]];
+            const RowEntry& b = rows.entries[rows.entry_offsets[row] + 1];
+            // The row's weighted vector, w times the rest one's counterpart.
+            const glm::dvec3 now =
+                a.coefficient * positions[a.vertex] + b.coefficient * positions[b.vertex];
+            covariance += weight_ * glm::outerProduct(now, rest_vectors_[s]);
+        }
+        fit_rotation(covariance, rotations_[r]);
+        const glm::dmat3 rotation = glm::mat3_cast(rotations_[r]);
+        targets[r] = rotation * rest_dual;
+        for (std::uint32_t s = rigid_offsets_[r]; s < rigid_offsets_[r + 1]; ++s) {
+            targets[first_row_ + s] = weight_ * (rotation * rest_vectors_[s]);
+        }
+    }
+}
+
+}  // namespace dfm::deform
