@@ -97,6 +97,7 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
             return Status(Errc::invalid_argument,
                           "nothing pins the ROI: it has no boundary, so it needs a handle group");
         }
+        s->pinned_ = has_boundary;
         if (settings.hard_handles) {
             for (std::uint32_t v : s->handle_vertices_) movable[v] = 0;
         }

@@ -139,6 +139,7 @@ private:
     // fitted_iteration.cpp
     Status solve_fitted(SolveReport& report, const Control* control);
     double fit_and_prepare(std::span<const double> x);
+    void align_to_handles();
 
     const MeshModel& model_;
     DeformSettings settings_;
@@ -159,6 +160,7 @@ private:
     AndersonAccelerator anderson_;
     RotationFrames frames_;             // fitted_rotations only
     std::vector<double> height_scale_;  // per dual row, with scale_heights
+    bool pinned_ = true;                // the ROI has a fixed boundary
     SetupReport setup_;
 };
 
