@@ -138,7 +138,7 @@ private:
     void verify_last_solve(SolveReport& report);
     // fitted_iteration.cpp
     Status solve_fitted(SolveReport& report, const Control* control);
-    double fit_and_prepare(std::span<const double> x);
+    double fit_and_prepare(std::span<const double> x, int rotation_steps);
     void align_to_handles();
 
     const MeshModel& model_;

@@ -23,11 +23,13 @@ double face_area(const mesh::Mesh& mesh, std::span<const glm::dvec3> p, std::uin
     return 0.5 * glm::length(glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]));
 }
 
+constexpr int first_fit_steps = 32;
+
 }  // namespace
 
 // Moves the unknowns to `x`, fits the rotations there, and prepares the
 // global step's right-hand side; returns the energy of `x`.
-double DeformSession::fit_and_prepare(std::span<const double> x) {
+double DeformSession::fit_and_prepare(std::span<const double> x, int rotation_steps) {
     const mesh::Mesh& mesh = model_.mesh;
     for (std::size_t i = 0; i < unknowns_.count(); ++i) {
         positions_[unknowns_.vertex_of_unknown[i]] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
@@ -44,7 +46,8 @@ double DeformSession::fit_and_prepare(std::span<const double> x) {
             height_scale_[r] = rest > 0.0 ? std::sqrt(face_area(mesh, positions_, f) / rest) : 1.0;
         }
     }
-    frames_.fit(model_, centroids_, positions_, rows_, height_scale_, dual_targets_);
+    frames_.fit(model_, centroids_, positions_, rows_, height_scale_, rotation_steps,
+                dual_targets_);
     return right_hand_side_and_energy(rows_, dual_targets_, positions_, unknowns_, soft_handles_,
                                       targets_, settings_.handle_weight, epsilon_, rhs_);
 }
@@ -72,7 +75,7 @@ void DeformSession::align_to_handles() {
         covariance += glm::outerProduct(targets_[h] - to, positions_[handle_vertices_[h]] - from);
     }
     glm::dquat q(1.0, 0.0, 0.0, 0.0);
-    for (int round = 0; round < 4; ++round) fit_rotation(covariance, q);
+    fit_rotation(covariance, q, 64);
     const glm::dmat3 rotation = glm::mat3_cast(q);
     for (std::size_t i = 0; i < unknowns_.count(); ++i) {
         const glm::dvec3 p(current_[3 * i], current_[3 * i + 1], current_[3 * i + 2]);
@@ -91,7 +94,11 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
     const double diag = model_.diagonal > 0.0 ? model_.diagonal : 1.0;
     anderson_.restart();
     align_to_handles();
-    double energy = fit_and_prepare(current_);
+    // A solve may start far from the last fit (new targets, a rigid
+    // alignment): its first fit runs to convergence. Between iterates the
+    // rotations move little, and one Newton step from the last fit is exact
+    // to second order (more steps did not cut the iterations).
+    double energy = fit_and_prepare(current_, first_fit_steps);
     report.energy = energy;
     std::copy(current_.begin(), current_.end(), x_.begin());
     for (int it = 0; it < settings_.max_iterations; ++it) {
@@ -135,7 +142,7 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
         }
         anderson_.step(current_, x_, next_);
         frames_.remember();
-        const double trial = fit_and_prepare(next_);
+        const double trial = fit_and_prepare(next_, 1);
         if (trial <= energy) {
             energy = trial;
             std::copy(next_.begin(), next_.end(), current_.begin());
@@ -144,7 +151,7 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
             // the old rotations, and refitting them from there lowers it.
             ++report.rejected_steps;
             frames_.recall();
-            energy = fit_and_prepare(x_);
+            energy = fit_and_prepare(x_, 1);
             std::copy(x_.begin(), x_.end(), current_.begin());
         }
         std::copy(current_.begin(), current_.end(), x_.begin());

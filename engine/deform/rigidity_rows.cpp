@@ -80,7 +80,8 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
 
 void RotationFrames::fit(const MeshModel& model, std::span<const glm::dvec3> centroids,
                          std::span<const glm::dvec3> positions, const SystemRows& rows,
-                         std::span<const double> height_scale, std::span<glm::dvec3> targets) {
+                         std::span<const double> height_scale, int steps,
+                         std::span<glm::dvec3> targets) {
     for (std::size_t r = 0; r < faces_.size(); ++r) {
         const std::uint32_t f = faces_[r];
         const double scale = height_scale.empty() ? 1.0 : height_scale[r];
@@ -96,7 +97,7 @@ void RotationFrames::fit(const MeshModel& model, std::span<const glm::dvec3> cen
                 a.coefficient * positions[a.vertex] + b.coefficient * positions[b.vertex];
             covariance += weight_ * glm::outerProduct(now, rest_vectors_[s]);
         }
-        fit_rotation(covariance, rotations_[r]);
+        fit_rotation(covariance, rotations_[r], steps);
         const glm::dmat3 rotation = glm::mat3_cast(rotations_[r]);
         targets[r] = rotation * rest_dual;
         for (std::uint32_t s = rigid_offsets_[r]; s < rigid_offsets_[r + 1]; ++s) {

@@ -32,12 +32,13 @@ public:
 
     // The local step: fits each dual row's rotation to `positions` and their
     // `centroids` (the rows' centroid faces filled in), starting from the
-    // last fit, and writes every row's target. Never raises the energy of any face's rows
+    // last fit with at most `steps` Newton steps, and writes every row's
+    // target. Never raises the energy of any face's rows
     // over the previous rotations. `height_scale`, when not empty, scales
     // each dual row's target (DeformSettings::scale_heights).
     void fit(const MeshModel& model, std::span<const glm::dvec3> centroids,
              std::span<const glm::dvec3> positions, const SystemRows& rows,
-             std::span<const double> height_scale, std::span<glm::dvec3> targets);
+             std::span<const double> height_scale, int steps, std::span<glm::dvec3> targets);
 
     // Keeps the current rotations, and goes back to them: a refused trial
     // step must not become the next fit's starting point.

@@ -21,9 +21,8 @@ bool positive_definite(const glm::dmat3& k, double tiny) {
 
 }  // namespace
 
-void fit_rotation(const glm::dmat3& a, glm::dquat& q) {
-    constexpr int max_steps = 12;
-    constexpr double smallest_turn = 1e-11;  // radians
+void fit_rotation(const glm::dmat3& a, glm::dquat& q, int max_steps) {
+    constexpr double smallest_turn = 1e-9;  // radians
     const glm::dquat start = q;
     glm::dmat3 r = glm::mat3_cast(start);
     const double start_alignment = alignment(r, a);
