@@ -12,6 +12,7 @@
 
 #include "deform/deform_session.hpp"
 #include "deform/quality.hpp"
+#include "dualform/edit_chain.hpp"
 #include "dualform/edit_setup.hpp"
 #include "dualform/scenario.hpp"
 #include "mesh/load.hpp"
@@ -167,4 +168,24 @@ TEST_CASE("paper's method: selectable, and it folds the camel's neck where the d
     CHECK(s.quality.flipped_faces > 0);
     CHECK(s.quality.mean_abs_log_edge > 0.1);
     CHECK(s.report.energy == 0.0);
+}
+
+TEST_CASE("fitted rotations: every edit of the paper's figures converges (tools/figures)") {
+    const std::filesystem::path dir(DUALFORM_SCENARIO_DIR);
+    const std::vector<std::vector<std::string>> figures = {
+        {"cow-front-leg-step", "cow-tail-swing"},
+        {"figure-cow-run-1", "figure-cow-run-2", "figure-cow-run-3", "figure-cow-run-4",
+         "figure-cow-run-5"},
+        {"figure-camel-neck", "figure-camel-front-leg-left", "figure-camel-front-leg-right",
+         "figure-camel-hind-leg"},
+        {"figure-dino-head", "figure-dino-tail"},
+        {"triceratops-horn-rotate", "figure-triceratops-horn-far"}};
+    for (const auto& names : figures) {
+        std::vector<std::string> paths;
+        for (const std::string& name : names) paths.push_back((dir / (name + ".json")).string());
+        cli::EditChain chain;
+        CAPTURE(names.front());
+        REQUIRE(cli::run_edit_chain(paths, chain).is_ok());
+        CHECK(chain.unconverged == 0);
+    }
 }
