@@ -34,10 +34,6 @@ double DeformSession::fit_and_prepare(std::span<const double> x, int rotation_st
     for (std::size_t i = 0; i < unknowns_.count(); ++i) {
         positions_[unknowns_.vertex_of_unknown[i]] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
     }
-    for (std::uint32_t f : rows_.centroid_faces) {
-        const mesh::Triangle& t = mesh.triangles[f];
-        centroids_[f] = (positions_[t[0]] + positions_[t[1]] + positions_[t[2]]) / 3.0;
-    }
     if (settings_.scale_heights) {
         height_scale_.resize(frames_.dual_rows());
         for (std::size_t r = 0; r < height_scale_.size(); ++r) {
@@ -46,10 +42,9 @@ double DeformSession::fit_and_prepare(std::span<const double> x, int rotation_st
             height_scale_[r] = rest > 0.0 ? std::sqrt(face_area(mesh, positions_, f) / rest) : 1.0;
         }
     }
-    frames_.fit(model_, centroids_, positions_, rows_, height_scale_, rotation_steps,
-                dual_targets_);
-    return right_hand_side_and_energy(rows_, dual_targets_, positions_, unknowns_, soft_handles_,
-                                      targets_, settings_.handle_weight, epsilon_, rhs_);
+    return frames_.fit_and_assemble(rows_, positions_, height_scale_, rotation_steps, rhs_) +
+           add_handle_terms(positions_, unknowns_, soft_handles_, targets_, settings_.handle_weight,
+                            epsilon_, rhs_);
 }
 
 // With nothing outside the handles to pin it, the ROI floats: its rotation

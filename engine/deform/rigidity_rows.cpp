@@ -78,32 +78,98 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
     }
 }
 
-void RotationFrames::fit(const MeshModel& model, std::span<const glm::dvec3> centroids,
-                         std::span<const glm::dvec3> positions, const SystemRows& rows,
-                         std::span<const double> height_scale, int steps,
-                         std::span<glm::dvec3> targets) {
+namespace {
+
+// Row r's product with the positions, whole and its fixed part alone.
+struct RowProduct {
+    glm::dvec3 whole{0.0};
+    glm::dvec3 fixed{0.0};
+};
+
+RowProduct row_product(const SystemRows& rows, std::size_t r,
+                       std::span<const glm::dvec3> positions) {
+    RowProduct out;
+    for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
+        const RowEntry& e = rows.entries[p];
+        const glm::dvec3 term = e.coefficient * positions[e.vertex];
+        out.whole += term;
+        if (e.unknown == mesh::no_index) out.fixed += term;
+    }
+    return out;
+}
+
+// Adds row r's share of Aᵀ (t − A_fixed p_fixed) to rhs; returns |A p − t|².
+double assemble_row(const SystemRows& rows, std::size_t r, const RowProduct& product,
+                    const glm::dvec3& target, std::span<double> rhs) {
+    const glm::dvec3 b = target - product.fixed;
+    for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
+        const RowEntry& e = rows.entries[p];
+        if (e.unknown == mesh::no_index) continue;
+        for (int c = 0; c < 3; ++c) rhs[3 * e.unknown + c] += e.coefficient * b[c];
+    }
+    const glm::dvec3 residual = product.whole - target;
+    return glm::dot(residual, residual);
+}
+
+// The same for a rigidity row, whose two entries are known to be there.
+RowProduct pair_product(const SystemRows& rows, std::size_t r,
+                        std::span<const glm::dvec3> positions) {
+    const RowEntry& a = rows.entries[rows.entry_offsets[r]];
+    const RowEntry& b = rows.entries[rows.entry_offsets[r] + 1];
+    const glm::dvec3 ta = a.coefficient * positions[a.vertex];
+    const glm::dvec3 tb = b.coefficient * positions[b.vertex];
+    RowProduct out;
+    out.whole = ta + tb;
+    if (a.unknown == mesh::no_index) out.fixed += ta;
+    if (b.unknown == mesh::no_index) out.fixed += tb;
+    return out;
+}
+
+double assemble_pair(const SystemRows& rows, std::size_t r, const RowProduct& product,
+                     const glm::dvec3& target, std::span<double> rhs) {
+    const glm::dvec3 b = target - product.fixed;
+    for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r] + 2; ++p) {
+        const RowEntry& e = rows.entries[p];
+        if (e.unknown == mesh::no_index) continue;
+        double* out = &rhs[3 * e.unknown];
+        out[0] += e.coefficient * b.x;
+        out[1] += e.coefficient * b.y;
+        out[2] += e.coefficient * b.z;
+    }
+    const glm::dvec3 residual = product.whole - target;
+    return glm::dot(residual, residual);
+}
+
+}  // namespace
+
+double RotationFrames::fit_and_assemble(const SystemRows& rows,
+                                        std::span<const glm::dvec3> positions,
+                                        std::span<const double> height_scale, int steps,
+                                        std::span<double> rhs) {
+    std::fill(rhs.begin(), rhs.end(), 0.0);
+    double energy = 0.0;
+    std::array<RowProduct, max_rigidity_rows> rigid{};
     for (std::size_t r = 0; r < faces_.size(); ++r) {
-        const std::uint32_t f = faces_[r];
         const double scale = height_scale.empty() ? 1.0 : height_scale[r];
         const glm::dvec3 rest_dual = scale * rest_dual_[r];
-        glm::dmat3 covariance =
-            glm::outerProduct(dual::dual_coordinate(model.dual, centroids, f), rest_dual);
-        for (std::uint32_t s = rigid_offsets_[r]; s < rigid_offsets_[r + 1]; ++s) {
-            const std::size_t row = first_row_ + s;
-            const RowEntry& a = rows.entries[rows.entry_offsets[row]];
-            const RowEntry& b = rows.entries[rows.entry_offsets[row] + 1];
-            // The row's weighted vector, w times the rest one's counterpart.
-            const glm::dvec3 now =
-                a.coefficient * positions[a.vertex] + b.coefficient * positions[b.vertex];
-            covariance += weight_ * glm::outerProduct(now, rest_vectors_[s]);
+        const RowProduct dual = row_product(rows, r, positions);
+        glm::dmat3 covariance = glm::outerProduct(dual.whole, rest_dual);
+        const std::uint32_t first = rigid_offsets_[r];
+        const std::uint32_t count = rigid_offsets_[r + 1] - first;
+        for (std::uint32_t k = 0; k < count; ++k) {
+            rigid[k] = pair_product(rows, first_row_ + first + k, positions);
+            // The row holds w times the vector: w² in the covariance.
+            covariance += weight_ * glm::outerProduct(rigid[k].whole, rest_vectors_[first + k]);
         }
         fit_rotation(covariance, rotations_[r], steps);
         const glm::dmat3 rotation = glm::mat3_cast(rotations_[r]);
-        targets[r] = rotation * rest_dual;
-        for (std::uint32_t s = rigid_offsets_[r]; s < rigid_offsets_[r + 1]; ++s) {
-            targets[first_row_ + s] = weight_ * (rotation * rest_vectors_[s]);
+        energy += assemble_row(rows, r, dual, rotation * rest_dual, rhs);
+        for (std::uint32_t k = 0; k < count; ++k) {
+            energy += assemble_pair(rows, first_row_ + first + k, rigid[k],
+                                    weight_ * (rotation * rest_vectors_[first + k]), rhs);
         }
     }
+    return energy;
 }
 
 }  // namespace dfm::deform

@@ -30,15 +30,16 @@ public:
     // alone on entry.
     void build(const MeshModel& model, const UnknownMap& unknowns, double weight, SystemRows& rows);
 
-    // The local step: fits each dual row's rotation to `positions` and their
-    // `centroids` (the rows' centroid faces filled in), starting from the
-    // last fit with at most `steps` Newton steps, and writes every row's
-    // target. Never raises the energy of any face's rows
-    // over the previous rotations. `height_scale`, when not empty, scales
-    // each dual row's target (DeformSettings::scale_heights).
-    void fit(const MeshModel& model, std::span<const glm::dvec3> centroids,
-             std::span<const glm::dvec3> positions, const SystemRows& rows,
-             std::span<const double> height_scale, int steps, std::span<glm::dvec3> targets);
+    // The local step, and the global step's right-hand side in the same
+    // pass: fits each dual row's rotation to `positions` (the whole mesh),
+    // starting from the last fit with at most `steps` Newton steps, then
+    // writes rhs = Aᵀ (t − A_fixed p_fixed) for the rows' targets t (3
+    // interleaved columns) and returns Σ_r |A_r p − t_r|², the rows' share
+    // of the energy (deform_energy.hpp). A fit never raises the energy of
+    // its rows over the previous rotations. `height_scale`, when not empty,
+    // scales each dual row's target (DeformSettings::scale_heights).
+    double fit_and_assemble(const SystemRows& rows, std::span<const glm::dvec3> positions,
+                            std::span<const double> height_scale, int steps, std::span<double> rhs);
 
     // Keeps the current rotations, and goes back to them: a refused trial
     // step must not become the next fit's starting point.
@@ -48,6 +49,7 @@ public:
     std::size_t dual_rows() const { return rest_dual_.size(); }
 
 private:
+    static constexpr std::size_t max_rigidity_rows = 6;  // per dual row: 3 dual, 3 face edges
     double weight_ = 0.0;
     std::size_t first_row_ = 0;                 // the first rigidity row in the system
     std::vector<std::uint32_t> faces_;          // per dual row
