@@ -19,9 +19,9 @@ namespace dfm::deform {
 // The outer iteration (docs/method.md).
 enum class DeformMethod {
     // Rotations fitted to each dual 1-ring turn the rest dual Laplacian
-    // coordinates, rigidity rows keep the dual edges' lengths, and Anderson
-    // steps are kept only when they lower the energy. Converges and keeps
-    // large bends unfolded.
+    // coordinates, rigidity rows keep the dual and face edges' lengths, and
+    // Anderson steps are kept only when they lower the energy. Converges,
+    // and keeps large bends from folding.
     fitted_rotations,
     // The paper's: l_f = -h_f n_f from the plane of the new dual 1-ring.
     paper,
@@ -70,8 +70,8 @@ struct SolveReport {
     // Stopped early by the interrupt flag: positions hold the last iterate,
     // neither converged nor verified.
     bool interrupted = false;
-    // fitted_rotations: the energy of the positions returned before the
-    // last solve (see deform_energy.hpp), and how many Anderson steps were
+    // fitted_rotations: the energy (deform_energy.hpp) of the iterate the
+    // last global step started from, and how many Anderson steps were
     // refused for raising it. The paper's method reports 0 for both.
     double energy = 0.0;
     std::size_t rejected_steps = 0;
