@@ -33,8 +33,7 @@ std::vector<double> bend(dfm_method method, dfm_frame_info& info) {
 
 }  // namespace
 
-TEST_CASE(
-    "session: the default method is the fitted rotations; DFM_METHOD_PAPER selects the paper's") {
+TEST_CASE("session: the default method is the fitted rotations, DFM_METHOD_PAPER the paper's") {
     dfm_frame_info by_default = {}, fitted = {}, paper = {};
     const std::vector<double> a = bend(DFM_METHOD_DEFAULT, by_default);
     const std::vector<double> b = bend(DFM_METHOD_FITTED_ROTATIONS, fitted);
