@@ -25,6 +25,10 @@ double face_area(const mesh::Mesh& mesh, std::span<const glm::dvec3> p, std::uin
 
 }  // namespace
 
+const char* method_name(DeformMethod m) {
+    return m == DeformMethod::paper ? "paper" : "fitted_rotations";
+}
+
 Status DeformSession::create(const MeshModel& model, std::span<const std::uint32_t> roi,
                              std::span<const std::vector<std::uint32_t>> handle_groups,
                              const DeformSettings& settings, std::unique_ptr<DeformSession>& out) {
@@ -34,11 +38,15 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
     if (!(settings.tolerance > 0.0) || settings.max_iterations < 1 ||
         !(settings.handle_weight > 0.0) || !(settings.regularization >= 0.0) ||
         !(settings.linear_tolerance > 0.0) || settings.anderson_memory < 0 ||
-        settings.anderson_memory > 50) {
+        settings.anderson_memory > 50 || !(settings.rigidity_weight >= 0.0) ||
+        !std::isfinite(settings.rigidity_weight) ||
+        (settings.method != DeformMethod::fitted_rotations &&
+         settings.method != DeformMethod::paper)) {
         return Status(Errc::invalid_argument,
                       "solver settings: tolerance, handle weight and linear tolerance must be "
                       "positive, the iteration cap at least 1, the regularization not negative, "
-                      "the Anderson memory from 0 to 50");
+                      "the Anderson memory from 0 to 50, the rigidity weight finite and not "
+                      "negative, the method one of fitted_rotations and paper");
     }
     try {
         std::unique_ptr<DeformSession> s(new DeformSession(model));
@@ -89,6 +97,7 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
             return Status(Errc::invalid_argument,
                           "nothing pins the ROI: it has no boundary, so it needs a handle group");
         }
+        s->pinned_ = has_boundary;
         if (settings.hard_handles) {
             for (std::uint32_t v : s->handle_vertices_) movable[v] = 0;
         }
@@ -107,6 +116,9 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         }
         auto phase = std::chrono::steady_clock::now();
         s->rows_ = collect_rows(model, u);
+        if (settings.method == DeformMethod::fitted_rotations) {
+            s->frames_.build(model, u, settings.rigidity_weight, s->rows_);
+        }
         s->setup_.rows_ms = elapsed_ms(phase);
         phase = std::chrono::steady_clock::now();
         solver::CsrMatrix normal =
@@ -264,6 +276,7 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
         for (int c = 0; c < 3; ++c) current_[3 * i + c] = p[c];
     }
     report.predicted = settings_.predict_frames && predictor_.predict(targets_, current_);
+    if (settings_.method == DeformMethod::fitted_rotations) return solve_fitted(report, control);
     std::copy(current_.begin(), current_.end(), x_.begin());
     if (report.predicted) store_solution();
     if (report.predicted) {
@@ -331,6 +344,13 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
         store_solution();
         if (control != nullptr && control->on_iteration) control->on_iteration(report);
     }
+    verify_last_solve(report);
+    report.solve_ms = elapsed_ms(start);
+    return Status::ok();
+}
+
+void DeformSession::verify_last_solve(SolveReport& report) {
+    const double diag = model_.diagonal > 0.0 ? model_.diagonal : 1.0;
     // The last linear solve, confirmed to its tolerance: what the host gets
     // is the solution of the last system, not one unchecked step of it. On a
     // nearly singular system the confirmation can fail; then the unchecked
@@ -351,8 +371,6 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
         std::copy(next_.begin(), next_.end(), x_.begin());
     }
     if (report.converged) predictor_.record(x_, targets_);
-    report.solve_ms = elapsed_ms(start);
-    return Status::ok();
 }
 
 }  // namespace dfm::deform

@@ -13,8 +13,22 @@
 #include "deform/linear_solver.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
+#include "deform/rigidity_rows.hpp"
 
 namespace dfm::deform {
+
+// The outer iteration (docs/method.md).
+enum class DeformMethod {
+    // Rotations fitted to each dual 1-ring turn the rest dual Laplacian
+    // coordinates, rigidity rows keep the dual and face edges' lengths, and
+    // Anderson steps are kept only when they lower the energy. Converges,
+    // and keeps large bends from folding.
+    fitted_rotations,
+    // The paper's: l_f = -h_f n_f from the plane of the new dual 1-ring.
+    paper,
+};
+
+const char* method_name(DeformMethod m);
 
 struct DeformSettings {
     double tolerance = 1e-5;  // largest vertex update / rest diagonal that ends the iteration
@@ -41,6 +55,12 @@ struct DeformSettings {
     // Threads for the factor and its solves (not owned; must outlive the
     // session). Null: the calling thread alone. Results do not depend on it.
     solver::ThreadPool* pool = nullptr;
+    DeformMethod method = DeformMethod::fitted_rotations;
+    // Weight of the rigidity rows against the dual Laplacian rows
+    // (fitted_rotations only; 0 leaves the fitted rotations alone). More
+    // keeps lengths better and converges more slowly; 0.1 brings the camel's
+    // neck to the default tolerance in 28 iterations (docs/method.md).
+    double rigidity_weight = 0.1;
 };
 
 struct SolveReport {
@@ -64,6 +84,11 @@ struct SolveReport {
     // Stopped early by the interrupt flag: positions hold the last iterate,
     // neither converged nor verified.
     bool interrupted = false;
+    // fitted_rotations: the energy (deform_energy.hpp) of the iterate the
+    // last global step started from, and how many Anderson steps were
+    // refused for raising it. The paper's method reports 0 for both.
+    double energy = 0.0;
+    std::size_t rejected_steps = 0;
 };
 
 struct SetupReport {
@@ -131,6 +156,11 @@ private:
     void compute_dual_targets();
     void compute_right_hand_side();
     void store_solution();
+    void verify_last_solve(SolveReport& report);
+    // fitted_iteration.cpp
+    Status solve_fitted(SolveReport& report, const Control* control);
+    double fit_and_prepare(std::span<const double> x, int rotation_steps);
+    void align_to_handles();
 
     const MeshModel& model_;
     DeformSettings settings_;
@@ -150,6 +180,9 @@ private:
     std::vector<double> next_;
     AndersonAccelerator anderson_;
     FramePredictor predictor_;
+    RotationFrames frames_;             // fitted_rotations only
+    std::vector<double> height_scale_;  // per dual row, with scale_heights
+    bool pinned_ = true;                // the ROI has a fixed boundary
     SetupReport setup_;
 };
 

@@ -2,6 +2,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
+#include <type_traits>
 
 #include "c_boundary.hpp"
 #include "mesh/normals.hpp"
@@ -23,6 +25,17 @@ Status settings_from(const dfm_solver_settings& in, deform::DeformSettings& out)
                                               : default_max_iterations);
     out.handle_weight = in.handle_weight != 0.0 ? in.handle_weight : 1.0;
     out.hard_handles = in.hard_handles;
+    std::underlying_type_t<dfm_method> method;  // read as an integer: a host may pass any value
+    std::memcpy(&method, &in.method, sizeof method);
+    if (method != DFM_METHOD_DEFAULT && method != DFM_METHOD_FITTED_ROTATIONS &&
+        method != DFM_METHOD_PAPER) {
+        return Status(Errc::invalid_argument, "solver.method: unknown method " +
+                                                  std::to_string(method) +
+                                                  " (DFM_METHOD_DEFAULT, _FITTED_ROTATIONS or "
+                                                  "_PAPER expected)");
+    }
+    out.method = method == DFM_METHOD_PAPER ? deform::DeformMethod::paper
+                                            : deform::DeformMethod::fitted_rotations;
     if (!(out.tolerance > 0.0) || !std::isfinite(out.tolerance)) {
         return Status(Errc::invalid_argument, "solver.tolerance must be positive and finite");
     }

@@ -509,11 +509,23 @@ TEST_CASE("scenario: handle errors") {
                 "[[", "handles[0].targets: cannot be combined with translate or rotate");
 }
 
+TEST_CASE("scenario: the solver's method selects the paper's iteration") {
+    CHECK(*parse_ok(with_solver(R"({"method": "paper"})")).solver.method == "paper");
+    CHECK(*parse_ok(with_solver(R"({"method": "fitted_rotations"})")).solver.method ==
+          "fitted_rotations");
+    CHECK_FALSE(parse_ok(with_solver("{}")).solver.method.has_value());
+}
+
 TEST_CASE("scenario: solver errors") {
     check_error(with_solver("[]"), "[]}", "solver: expected an object, found an empty array");
     check_error(
         with_solver(R"({"tolerence": 1e-5})"), R"("tolerence")",
-        "solver.tolerence: unknown field (expected tolerance, max_iterations or handle_weight)");
+        "solver.tolerence: unknown field (expected tolerance, max_iterations, handle_weight or "
+        "method)");
+    check_error(with_solver(R"({"method": "fast"})"), R"("fast")",
+                R"(solver.method: expected "fitted_rotations" or "paper", found a string)");
+    check_error(with_solver(R"({"method": 1})"), "1}",
+                R"(solver.method: expected "fitted_rotations" or "paper", found 1)");
     const std::string positive = "expected a number greater than 0, found ";
     check_error(with_solver(R"({"tolerance": 0})"), "0}", "solver.tolerance: " + positive + "0");
     check_error(with_solver(R"({"tolerance": -1e-5})"), "-1e-5",

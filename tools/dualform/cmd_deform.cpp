@@ -18,7 +18,8 @@ namespace {
 
 constexpr const char* usage =
     "usage: dualform deform SCENARIO --out MESH [--report JSON] [--roi-out TXT] [--strict]\n"
-    "       [--preconditioner cholesky|incomplete_cholesky|jacobi] [--hard-handles]";
+    "       [--preconditioner cholesky|incomplete_cholesky|jacobi] [--hard-handles]\n"
+    "       [--method fitted_rotations|paper]";
 
 }  // namespace
 
@@ -38,6 +39,7 @@ int run_deform(std::span<const std::string_view> args) {
     bool strict = false;
     bool hard = false;
     std::optional<deform::Preconditioner> preconditioner;
+    std::optional<deform::DeformMethod> method;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string_view a = args[i];
         auto value = [&](std::string& into) {
@@ -63,6 +65,13 @@ int run_deform(std::span<const std::string_view> args) {
                     "--preconditioner: expected cholesky, incomplete_cholesky or jacobi");
             }
             preconditioner = p;
+        } else if (a == "--method") {
+            std::string name;
+            if (!value(name) || (name != "fitted_rotations" && name != "paper")) {
+                return bad_input("--method: expected fitted_rotations or paper");
+            }
+            method = name == "paper" ? deform::DeformMethod::paper
+                                     : deform::DeformMethod::fitted_rotations;
         } else if (a.starts_with("--") || !scenario_path.empty()) {
             return bad_input(std::string("unexpected argument '") + std::string(a) + "'\n" + usage);
         } else {
@@ -83,6 +92,7 @@ int run_deform(std::span<const std::string_view> args) {
     }
     if (preconditioner) edit.settings.preconditioner = *preconditioner;
     edit.settings.hard_handles = hard;
+    if (method) edit.settings.method = *method;
     std::unique_ptr<deform::DeformSession> session;
     if (Status s = deform::DeformSession::create(model, edit.roi, edit.handle_groups, edit.settings,
                                                  session);
@@ -130,6 +140,9 @@ int run_deform(std::span<const std::string_view> args) {
     json.key("linear_residual").value(solved.linear_residual);
     json.key("linear_converged").value(solved.linear_converged);
     json.key("preconditioner").value(deform::preconditioner_name(edit.settings.preconditioner));
+    json.key("method").value(deform::method_name(edit.settings.method));
+    json.key("energy").value(solved.energy);
+    json.key("rejected_steps").value(std::uint64_t{solved.rejected_steps});
     json.key("load_ms").value(std::chrono::duration<double, std::milli>(roi_start - start).count());
     write_quality(json, quality);
     json.end_object();

@@ -182,6 +182,10 @@ Status resolve_edit(const Scenario& scenario, const deform::MeshModel& model, Ed
     if (solver.tolerance) out.settings.tolerance = *solver.tolerance;
     if (solver.max_iterations) out.settings.max_iterations = *solver.max_iterations;
     if (solver.handle_weight) out.settings.handle_weight = *solver.handle_weight;
+    if (solver.method) {
+        out.settings.method = *solver.method == "paper" ? deform::DeformMethod::paper
+                                                        : deform::DeformMethod::fitted_rotations;
+    }
     return Status::ok();
 }
 

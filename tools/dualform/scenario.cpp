@@ -489,7 +489,9 @@ private:
     }
 
     Status solver(const Field& f, SolverSpec& out) const {
-        if (Status s = object(f, {"tolerance", "max_iterations", "handle_weight"}); !s) return s;
+        if (Status s = object(f, {"tolerance", "max_iterations", "handle_weight", "method"}); !s) {
+            return s;
+        }
         if (const Field t = member(f, "tolerance"); t.value) {
             if (Status s = positive(t, out.tolerance.emplace()); !s) return s;
         }
@@ -500,6 +502,13 @@ private:
         }
         if (const Field w = member(f, "handle_weight"); w.value) {
             if (Status s = positive(w, out.handle_weight.emplace()); !s) return s;
+        }
+        if (const Field m = member(f, "method"); m.value) {
+            if (m.value->type != JsonType::string ||
+                (m.value->text != "fitted_rotations" && m.value->text != "paper")) {
+                return expected(m, "\"fitted_rotations\" or \"paper\"");
+            }
+            out.method = m.value->text;
         }
         return Status::ok();
     }

@@ -66,6 +66,7 @@ struct SolverSpec {
     std::optional<double> tolerance;
     std::optional<int> max_iterations;
     std::optional<double> handle_weight;
+    std::optional<std::string> method;  // "fitted_rotations" or "paper" (docs/method.md)
 };
 
 struct Scenario {

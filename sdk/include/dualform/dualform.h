@@ -329,12 +329,21 @@ DFM_API void dfm_roi_destroy(dfm_roi* roi);
 
 typedef struct dfm_session dfm_session;
 
+/* The outer iteration (docs/method.md). Fixed when the session is created. */
+typedef enum dfm_method {
+    DFM_METHOD_DEFAULT = 0,          /* DFM_METHOD_FITTED_ROTATIONS */
+    DFM_METHOD_FITTED_ROTATIONS = 1, /* rotations fitted per dual 1-ring, rigidity rows:
+                                        converges, large bends do not fold */
+    DFM_METHOD_PAPER = 2             /* Au et al.: l_f = -h_f n_f from each new dual 1-ring */
+} dfm_method;
+
 /* Zero means the default. */
 typedef struct dfm_solver_settings {
     double tolerance;        /* largest vertex update / diagonal that ends it; 1e-5 */
     uint32_t max_iterations; /* 100 */
     double handle_weight;    /* weight of the soft handle rows; 1 */
     bool hard_handles;       /* handles met exactly instead of weighted */
+    dfm_method method;       /* DFM_METHOD_FITTED_ROTATIONS */
 } dfm_solver_settings;
 
 /* A group of handle vertices that move together (one transform). */
