@@ -38,7 +38,7 @@ struct Frame {
 
 std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
 
-// A DeformSession behind a worker thread (DESIGN.md, "Asynchronous engine").
+// A DeformSession behind a worker thread (docs/design.md, "The asynchronous session").
 // The host submits targets without blocking; latest wins: queued targets that
 // a newer submit replaces are never solved. A running solve finishes (only
 // cancel, destroy and solve_now stop it early), so every finished frame is a

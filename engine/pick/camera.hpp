@@ -10,7 +10,7 @@
 
 namespace dfm::pick {
 
-// A pinhole camera as ../shared/SCENARIOS.md defines it: at `eye`, looking at
+// A pinhole camera as docs/scenarios.md defines it: at `eye`, looking at
 // `target`, `up` giving the image's up direction, `fov_y_degrees` the full
 // vertical opening, an image of width × height pixels.
 struct Camera {

@@ -167,7 +167,7 @@ TEST_CASE("scenario: the example scenarios parse") {
     CHECK(horn.rotate->pivot == glm::dvec3(5.9665, 1.6318, 0.68));
 }
 
-TEST_CASE("scenario: the example of SCENARIOS.md") {
+TEST_CASE("scenario: the example of docs/scenarios.md") {
     const Scenario s = parse_ok(R"({
   "mesh": "model:camel",
   "roi": { "water_fill": { "first": 812, "last": 1033 } },

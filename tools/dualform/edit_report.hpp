@@ -5,7 +5,7 @@
 
 namespace dfm::cli {
 
-// Writes "quality": {...} with the field names of ../shared/SCENARIOS.md.
+// Writes "quality": {...} with the field names of docs/scenarios.md.
 void write_quality(JsonWriter& json, const deform::QualityReport& q);
 
 }  // namespace dfm::cli

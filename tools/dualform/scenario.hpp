@@ -12,7 +12,7 @@
 
 #include "core/status.hpp"
 
-// An edit scenario as ../shared/SCENARIOS.md defines it, parsed and checked
+// An edit scenario as docs/scenarios.md defines it, parsed and checked
 // for form (types, required fields, unknown fields) but not yet against a
 // mesh: vertex indices are checked when the scenario is applied.
 namespace dfm::cli {

@@ -71,7 +71,7 @@ DFM_API uint32_t dfm_version(void);
 
 /* ---------------------------------------------------------------- camera */
 
-/* A pinhole camera, as in SCENARIOS.md: at `eye` looking at `target`, `up`
+/* A pinhole camera: at `eye` looking at `target`, `up`
  * giving the image's up direction, `fov_y_degrees` the full vertical field of
  * view, an image of width x height pixels. Pixel coordinates are continuous:
  * (0,0) is the top-left corner, x right, y down; (w/2,h/2) looks at target.
@@ -270,9 +270,10 @@ typedef struct dfm_water_fill_diagnosis {
 } dfm_water_fill_diagnosis;
 
 /* The paper's Water-Filling from vertex `first` up to the cutting plane through
- * vertex `last` (DESIGN.md). `diagnosis` may be NULL. A suspect region is
- * still returned (and logged as DFM_LOG_ID_WATER_FILL_SUSPECT): the host
- * decides. *out is owned by the caller. Thread-safe. */
+ * vertex `last` whose normal is the direction from `first` to `last`.
+ * `diagnosis` may be NULL. A suspect region is still returned (and logged as
+ * DFM_LOG_ID_WATER_FILL_SUSPECT): the host decides. *out is owned by the
+ * caller. Thread-safe. */
 DFM_API dfm_result dfm_roi_water_fill(dfm_mesh* mesh, uint32_t first, uint32_t last, dfm_roi** out,
                                       dfm_water_fill_diagnosis* diagnosis);
 
