@@ -285,6 +285,11 @@ TEST_CASE("render: a host's device records our draw into its own command buffer"
         REQUIRE(dfm_vk_renderer_record_draw(renderer, cmd, &frame, extent.width, extent.height) ==
                 DFM_OK);
         vkCmdEndRendering(cmd);
+        // A new mesh while the recorded draw is not even submitted: the
+        // renderer waits on nothing of the host's and keeps the buffers that
+        // draw reads alive (the validation layer would see a destroyed one).
+        REQUIRE(dfm_vk_renderer_set_mesh(renderer, &positions, sphere.triangles.front().data(),
+                                         sphere.triangles.size()) == DFM_OK);
         barrier(cmd, host.color.image, VK_IMAGE_ASPECT_COLOR_BIT,
                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,

@@ -48,8 +48,7 @@ if [ -f "$build/sdk/src/vulkan/libdualform_vulkan.so" ]; then
 fi
 echo "== package version compatibility"
 version_file=$(find "$work/prefix" -name dualformConfigVersion.cmake)
-compatible() {
-  cmake -DPACKAGE_FIND_VERSION="$1" -DVERSION_FILE="$version_file" -P /dev/stdin <<'EOF'
+cat >"$work/compatible.cmake" <<'EOF'
 string(REPLACE "." ";" parts "${PACKAGE_FIND_VERSION}")
 list(GET parts 0 PACKAGE_FIND_VERSION_MAJOR)
 list(GET parts 1 PACKAGE_FIND_VERSION_MINOR)
@@ -60,6 +59,8 @@ if(NOT PACKAGE_VERSION_COMPATIBLE)
   message(FATAL_ERROR "not compatible")
 endif()
 EOF
+compatible() {
+  cmake -DPACKAGE_FIND_VERSION="$1" -DVERSION_FILE="$version_file" -P "$work/compatible.cmake"
 }
 compatible "$soversion"
 major=${soversion%%.*}

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "pick/pick.hpp"
@@ -61,7 +62,9 @@ TEST_CASE("dualform info: the real models") {
 TEST_CASE("dualform info: the cow written as OBJ and PLY variants") {
     dfm::mesh::Mesh cow;
     std::filesystem::path path;
-    REQUIRE(dfm::mesh::resolve_mesh_spec("model:cow", {}, path).is_ok());
+    REQUIRE(dfm::mesh::resolve_mesh_spec("model:cow", {},
+                                         dfm::tools::models_folder_from_environment(), path)
+                .is_ok());
     REQUIRE(dfm::mesh::load_mesh(path, cow).is_ok());
     const auto dir = dfm::test::scratch_dir("cli_cow_variants");
     for (const auto& f : dfm::test::write_model_variants(cow, dir)) {
@@ -324,7 +327,9 @@ TEST_CASE("dualform roi: writes the Water-Filling ROI and its diagnosis") {
 TEST_CASE("dualform roi: water_fill_clicks replays the water_fill ROI") {
     dfm::mesh::Mesh cow;
     std::filesystem::path path;
-    REQUIRE(dfm::mesh::resolve_mesh_spec("model:cow", {}, path).is_ok());
+    REQUIRE(dfm::mesh::resolve_mesh_spec("model:cow", {},
+                                         dfm::tools::models_folder_from_environment(), path)
+                .is_ok());
     REQUIRE(dfm::mesh::load_mesh(path, cow).is_ok());
     // A camera in front of the leg and below the hoof (771 is on the hoof's
     // sole), from where both vertices are seen: picking their projections

@@ -13,8 +13,8 @@
 #include "dualform/edit_report.hpp"
 #include "dualform/edit_setup.hpp"
 #include "dualform/file_output.hpp"
-#include "dualform/json_writer.hpp"
 #include "dualform/scenario.hpp"
+#include "json/json_writer.hpp"
 
 // Benchmarks scenarios: set-up and the solve from rest, repeated, then a
 // warm drag of 60 frames, each solved to tolerance from the previous frame.
@@ -33,7 +33,7 @@ double ms_since(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
-void write_spread(JsonWriter& json, std::string_view key, std::vector<double> values) {
+void write_spread(json::JsonWriter& json, std::string_view key, std::vector<double> values) {
     std::sort(values.begin(), values.end());
     const auto at = [&](double q) {
         return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5)];
@@ -72,7 +72,7 @@ Status run_once(const deform::MeshModel& model, const EditSetup& edit, Run& run)
 }
 
 Status bench_scenario(const std::string& path, int repeat, std::optional<deform::Preconditioner> pc,
-                      JsonWriter& json) {
+                      json::JsonWriter& json) {
     Scenario scenario;
     if (Status s = load_scenario(path, scenario); !s) return s;
     deform::MeshModel model;
@@ -188,7 +188,7 @@ int run_bench(std::span<const std::string_view> args) {
     }
     if (scenarios.empty()) return bad_input(usage);
 
-    JsonWriter json;
+    json::JsonWriter json;
     json.begin_object();
     json.key("machine").begin_object();
     json.key("hardware_threads").value(std::uint64_t{std::thread::hardware_concurrency()});

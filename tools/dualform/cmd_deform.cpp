@@ -8,8 +8,8 @@
 #include "dualform/edit_report.hpp"
 #include "dualform/edit_setup.hpp"
 #include "dualform/file_output.hpp"
-#include "dualform/json_writer.hpp"
 #include "dualform/scenario.hpp"
+#include "json/json_writer.hpp"
 #include "mesh/write.hpp"
 
 namespace dfm::cli {
@@ -110,7 +110,7 @@ int run_deform(std::span<const std::string_view> args) {
         if (Status s = write_index_lines(roi_path, edit.roi); !s) return bad_input(s.message());
     }
 
-    JsonWriter json;
+    json::JsonWriter json;
     json.begin_object();
     json.key("mesh").value(scenario.mesh);
     json.key("n_vertices").value(std::uint64_t{model.mesh.vertex_count()});

@@ -2,15 +2,15 @@
 #include <string>
 
 #include "dualform/commands.hpp"
-#include "dualform/json_writer.hpp"
 #include "dualform/mesh_input.hpp"
+#include "json/json_writer.hpp"
 #include "mesh/summary.hpp"
 
 namespace dfm::cli {
 
 namespace {
 
-void write_vec3(JsonWriter& json, std::string_view key, const glm::dvec3& v) {
+void write_vec3(json::JsonWriter& json, std::string_view key, const glm::dvec3& v) {
     json.key(key).begin_array().value(v.x).value(v.y).value(v.z).end_array();
 }
 
@@ -23,7 +23,7 @@ int run_info(std::span<const std::string_view> args) {
     if (Status s = load_mesh_input(args[0], m, report); !s) return bad_input(s.message());
     const mesh::MeshSummary s = mesh::summarize(m);
 
-    JsonWriter json;
+    json::JsonWriter json;
     json.begin_object();
     json.key("mesh").value(args[0]);
     json.key("vertices").value(std::uint64_t{s.vertices});

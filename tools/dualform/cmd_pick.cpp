@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "dualform/commands.hpp"
-#include "dualform/json_writer.hpp"
 #include "dualform/mesh_input.hpp"
 #include "dualform/pick_camera.hpp"
+#include "json/json_writer.hpp"
 #include "pick/pick.hpp"
 
 namespace dfm::cli {
@@ -33,7 +33,7 @@ bool parse_pixel(std::string_view text, glm::dvec2& out) {
 }
 
 std::string hit_json(const std::optional<pick::Hit>& hit) {
-    JsonWriter j;
+    json::JsonWriter j;
     j.begin_object().key("hit").value(hit.has_value());
     if (hit) {
         j.key("face").value(std::uint64_t{hit->face});
@@ -67,7 +67,7 @@ int bench(const pick::EmbreeScene& scene, const pick::Camera& camera, glm::dvec2
         hits += hit.has_value();
     }
     std::sort(us.begin(), us.end());
-    JsonWriter j;
+    json::JsonWriter j;
     j.begin_object()
         .key("rays")
         .value(std::uint64_t{rays})

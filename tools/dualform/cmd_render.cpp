@@ -7,9 +7,10 @@
 #include <vector>
 
 #include "dualform/commands.hpp"
-#include "dualform/json_writer.hpp"
 #include "dualform/pick_camera.hpp"
 #include "dualform/render_scene.hpp"
+#include "environment/host_environment.hpp"
+#include "json/json_writer.hpp"
 #include "render/png_writer.hpp"
 #include "render/renderer.hpp"
 #include "render/view_transform.hpp"
@@ -121,7 +122,7 @@ int run_bench(render::Renderer& renderer, const RenderScene& scene,
                     .count());
         }
     }
-    JsonWriter json;
+    json::JsonWriter json;
     json.begin_object();
     json.key("vertices").value(std::uint64_t{scene.rest.vertex_count()});
     json.key("faces").value(std::uint64_t{scene.rest.face_count()});
@@ -173,7 +174,7 @@ int run_render(std::span<const std::string_view> args) {
     }
 
     render::OwnDeviceOptions options;
-    options.validation = render::validation_requested();
+    options.validation = tools::validation_from_environment();
     options.max_samples = static_cast<VkSampleCountFlagBits>(o.samples);
     std::unique_ptr<render::Renderer> renderer;
     if (auto s = render::Renderer::create_headless(options, renderer); !s) {

@@ -6,8 +6,8 @@
 
 #include "dualform/commands.hpp"
 #include "dualform/edit_setup.hpp"
-#include "dualform/json_writer.hpp"
 #include "dualform/scenario.hpp"
+#include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
@@ -51,7 +51,7 @@ int run_roi(std::span<const std::string_view> args) {
     out.close();
     if (!out) return bad_input(out_path + ": cannot write");
 
-    JsonWriter j;
+    json::JsonWriter j;
     j.begin_object().key("n_roi").value(std::uint64_t{roi.size()});
     if (diagnosis) {
         j.key("loops").value(std::uint64_t{diagnosis->loops});

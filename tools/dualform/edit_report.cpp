@@ -2,7 +2,7 @@
 
 namespace dfm::cli {
 
-void write_quality(JsonWriter& json, const deform::QualityReport& q) {
+void write_quality(json::JsonWriter& json, const deform::QualityReport& q) {
     json.key("quality").begin_object();
     json.key("max_handle_error").value(q.max_handle_error);
     json.key("mean_abs_log_edge").value(q.mean_abs_log_edge);

@@ -1,11 +1,11 @@
 #pragma once
 
 #include "deform/quality.hpp"
-#include "dualform/json_writer.hpp"
+#include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
 // Writes "quality": {...} with the field names of docs/scenarios.md.
-void write_quality(JsonWriter& json, const deform::QualityReport& q);
+void write_quality(json::JsonWriter& json, const deform::QualityReport& q);
 
 }  // namespace dfm::cli

@@ -10,6 +10,7 @@
 
 #include "core/number_text.hpp"
 #include "dualform/pick_camera.hpp"
+#include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "mesh/subdivide.hpp"
@@ -187,7 +188,9 @@ Status resolve_edit(const Scenario& scenario, const deform::MeshModel& model, Ed
 
 Status load_scenario_model(const Scenario& scenario, deform::MeshModel& model) {
     std::filesystem::path path;
-    if (Status s = mesh::resolve_mesh_spec(scenario.mesh, scenario.base_dir, path); !s) {
+    if (Status s = mesh::resolve_mesh_spec(scenario.mesh, scenario.base_dir,
+                                           tools::models_folder_from_environment(), path);
+        !s) {
         return Status(s.code(), "mesh: " + s.message());
     }
     mesh::Mesh m;

@@ -15,7 +15,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/number_text.hpp"
-#include "dualform/json_reader.hpp"
+#include "json/json_reader.hpp"
 
 // Every field the format does not define is an error, so that a misspelt
 // optional field ("tolerence") cannot silently fall back to a default. The
@@ -24,6 +24,26 @@
 namespace dfm::cli {
 
 namespace {
+
+using json::json_location;
+using json::json_printable;
+using json::json_type_phrase;
+using json::JsonMember;
+using json::JsonPosition;
+using json::JsonStatus;
+using json::JsonType;
+using json::JsonValue;
+
+// The JSON reader's outcome as the engine's status, keeping its message.
+Status read_json(std::string_view text, std::string_view source, JsonValue& out) {
+    const JsonStatus read = json::parse_json(text, source, {.keep_huge_numbers = true}, out);
+    switch (read.code()) {
+        case JsonStatus::Code::ok: return Status::ok();
+        case JsonStatus::Code::out_of_memory: return Status(Errc::out_of_memory, read.message());
+        case JsonStatus::Code::parse_error: break;
+    }
+    return Status(Errc::parse_error, read.message());
+}
 
 using Names = std::initializer_list<std::string_view>;
 
@@ -544,7 +564,7 @@ Status parse_scenario(std::string_view text, std::string_view source, Scenario& 
     out = Scenario{};
     try {
         JsonValue root;
-        if (Status s = parse_json(text, source, {.keep_huge_numbers = true}, root); !s) return s;
+        if (Status s = read_json(text, source, root); !s) return s;
         Scenario scenario;
         if (Status s = ScenarioReader(source).scenario(root, scenario); !s) return s;
         out = std::move(scenario);
@@ -558,7 +578,7 @@ Status parse_camera(std::string_view text, std::string_view source, ScenarioCame
     out = ScenarioCamera{};
     try {
         JsonValue root;
-        if (Status s = parse_json(text, source, {.keep_huge_numbers = true}, root); !s) return s;
+        if (Status s = read_json(text, source, root); !s) return s;
         ScenarioCamera camera;
         if (Status s = ScenarioReader(source).camera_document(root, camera); !s) return s;
         out = camera;
