@@ -200,6 +200,8 @@ TEST_CASE("render: a host's device records our draw into its own command buffer"
     const mesh::Mesh sphere = make_icosphere(3);
     pick::Camera view;
     view.eye = {0.5, 0.8, 4.0};
+    view.up = {0.0, 1.0, 0.0};
+    view.fov_y_degrees = 60.0;
     view.width = 96;
     view.height = 64;
     const dfm_camera camera = to_c_camera(view);

@@ -339,6 +339,7 @@ TEST_CASE("dualform roi: water_fill_clicks replays the water_fill ROI") {
     dfm::pick::Camera camera;
     camera.target = 0.5 * (cow.positions[771] + cow.positions[681]);
     camera.eye = camera.target + glm::dvec3(0.5, -0.3, 0.0);
+    camera.up = glm::dvec3(0.0, 1.0, 0.0);
     camera.fov_y_degrees = 40.0;
     camera.width = 640;
     camera.height = 480;

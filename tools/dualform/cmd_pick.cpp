@@ -114,7 +114,7 @@ int run_pick(std::span<const std::string_view> args) {
     }
     if (mesh_spec.empty() || camera_text.empty() || !pixel) return bad_input(usage);
 
-    ScenarioCamera scenario_camera;
+    dfm_camera scenario_camera{};
     if (Status s = read_camera_argument(camera_text, scenario_camera); !s) {
         return bad_input(s.message());
     }

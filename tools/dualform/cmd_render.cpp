@@ -160,7 +160,7 @@ int run_render(std::span<const std::string_view> args) {
     view.wireframe = o.wireframe;
     view.flat = o.flat;
     if (!o.camera.empty()) {
-        ScenarioCamera camera;
+        dfm_camera camera{};
         if (Status s = read_camera_argument(o.camera, camera); !s) return bad_input(s.message());
         view.camera = to_pick_camera(camera);
         if (o.width) view.camera.width = o.width;

@@ -51,7 +51,7 @@ Status water_fill(std::uint32_t first, std::uint32_t last, const deform::MeshMod
 }
 
 // The vertex a click picks: the nearest vertex of the face it hits.
-Status click_vertex(const pick::EmbreeScene& scene, const ScenarioCamera& camera, glm::dvec2 pixel,
+Status click_vertex(const pick::EmbreeScene& scene, const dfm_camera& camera, glm::dvec2 pixel,
                     const std::string& what, std::uint32_t& out) {
     std::optional<pick::Hit> hit;
     if (Status s = pick::pick_pixel(scene, to_pick_camera(camera), pixel, hit); !s) {

@@ -8,10 +8,11 @@
 
 namespace dfm::cli {
 
-pick::Camera to_pick_camera(const ScenarioCamera& camera);
+// The engine's form of the camera (the same fields).
+pick::Camera to_pick_camera(const dfm_camera& camera);
 
 // A --camera argument: CAMERA JSON written inline when its first non-blank
 // character is '{', otherwise the path of a file holding it.
-Status read_camera_argument(std::string_view argument, ScenarioCamera& out);
+Status read_camera_argument(std::string_view argument, dfm_camera& out);
 
 }  // namespace dfm::cli

@@ -168,7 +168,7 @@ public:
     }
 
     // A camera as a document of its own (`dualform pick --camera`).
-    Status camera_document(const JsonValue& root, ScenarioCamera& out) const {
+    Status camera_document(const JsonValue& root, dfm_camera& out) const {
         return camera(Field{&root, root.at, ""}, out);
     }
 
@@ -381,7 +381,7 @@ private:
         return pixel(member(f, "last"), out.camera, out.last_pixel);
     }
 
-    Status pixel(const Field& f, const ScenarioCamera& camera, glm::dvec2& out) const {
+    Status pixel(const Field& f, const dfm_camera& camera, glm::dvec2& out) const {
         if (Status s = vec(f, out); !s) return s;
         const double w = camera.width;
         const double h = camera.height;
@@ -396,17 +396,25 @@ private:
         return Status::ok();
     }
 
-    Status camera(const Field& f, ScenarioCamera& out) const {
+    Status camera(const Field& f, dfm_camera& out) const {
         if (Status s = object(f, {"eye", "target", "up", "fov_y_degrees", "width", "height"}); !s) {
             return s;
         }
-        if (Status s = vec(member(f, "eye"), out.eye); !s) return s;
+        glm::dvec3 eye{0.0};
+        glm::dvec3 target_point{0.0};
+        glm::dvec3 up_direction{0.0};
+        if (Status s = vec(member(f, "eye"), eye); !s) return s;
         const Field target = member(f, "target");
-        if (Status s = vec(target, out.target); !s) return s;
-        if (out.target == out.eye) return error(target, "must differ from eye");
+        if (Status s = vec(target, target_point); !s) return s;
+        if (target_point == eye) return error(target, "must differ from eye");
         const Field up = member(f, "up");
-        if (Status s = vec(up, out.up); !s) return s;
-        if (parallel(out.up, out.target - out.eye)) {
+        if (Status s = vec(up, up_direction); !s) return s;
+        for (int k = 0; k < 3; ++k) {
+            out.eye[k] = eye[k];
+            out.target[k] = target_point[k];
+            out.up[k] = up_direction[k];
+        }
+        if (parallel(up_direction, target_point - eye)) {
             return error(up,
                          "must be non-zero and not parallel to the view direction (target - eye)");
         }
@@ -574,12 +582,12 @@ Status parse_scenario(std::string_view text, std::string_view source, Scenario& 
     }
 }
 
-Status parse_camera(std::string_view text, std::string_view source, ScenarioCamera& out) {
-    out = ScenarioCamera{};
+Status parse_camera(std::string_view text, std::string_view source, dfm_camera& out) {
+    out = dfm_camera{};
     try {
         JsonValue root;
         if (Status s = read_json(text, source, root); !s) return s;
-        ScenarioCamera camera;
+        dfm_camera camera{};
         if (Status s = ScenarioReader(source).camera_document(root, camera); !s) return s;
         out = camera;
         return Status::ok();

@@ -3,8 +3,8 @@
 #include <memory>
 #include <vector>
 
+#include "camera_convert.hpp"
 #include "dualform/dualform_vulkan.h"
-#include "pick/camera.hpp"
 #include "render/png_writer.hpp"
 #include "render/renderer.hpp"
 #include "render/validation.hpp"
@@ -76,11 +76,9 @@ dfm_result to_view(const char* function, const dfm_vk_frame* frame, std::uint32_
     if (frame->flags & ~(DFM_VK_FLAG_WIREFRAME | DFM_VK_FLAG_FLAT)) {
         return report(function, DFM_ERROR_INVALID_ARGUMENT, "frame.flags has unknown bits");
     }
-    const dfm_camera& c = frame->camera;
-    view.camera =
-        dfm::pick::Camera{{c.eye[0], c.eye[1], c.eye[2]}, {c.target[0], c.target[1], c.target[2]},
-                          {c.up[0], c.up[1], c.up[2]},    c.fov_y_degrees,
-                          width != 0 ? width : c.width,   height != 0 ? height : c.height};
+    view.camera = dfm::sdk::to_camera(frame->camera);
+    if (width != 0) view.camera.width = width;
+    if (height != 0) view.camera.height = height;
     if (dfm::Status s = dfm::pick::check_camera(view.camera); !s) {
         return report(function, DFM_ERROR_INVALID_ARGUMENT, s.message());
     }
@@ -378,15 +376,7 @@ DFM_API dfm_result dfm_vk_framing_camera(const dfm_vec3_input* positions, uint32
         const render::StridedPositions points = to_strided(*positions);
         std::vector<glm::dvec3> read(points.count);
         for (std::size_t i = 0; i < points.count; ++i) read[i] = points.at(i);
-        const dfm::pick::Camera c = render::framing_camera(read, width, height);
-        for (int k = 0; k < 3; ++k) {
-            out->eye[k] = c.eye[k];
-            out->target[k] = c.target[k];
-            out->up[k] = c.up[k];
-        }
-        out->fov_y_degrees = c.fov_y_degrees;
-        out->width = c.width;
-        out->height = c.height;
+        *out = dfm::sdk::to_c_camera(render::framing_camera(read, width, height));
         return DFM_OK;
     });
 }
