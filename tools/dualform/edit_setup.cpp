@@ -19,6 +19,17 @@
 
 namespace dfm::cli {
 
+bool parse_preconditioner(std::string_view name, deform::Preconditioner& out) {
+    for (auto p : {deform::Preconditioner::cholesky, deform::Preconditioner::incomplete_cholesky,
+                   deform::Preconditioner::jacobi}) {
+        if (name == deform::preconditioner_name(p)) {
+            out = p;
+            return true;
+        }
+    }
+    return false;
+}
+
 namespace {
 
 Status check_vertex(std::uint32_t v, const deform::MeshModel& model, const std::string& what) {

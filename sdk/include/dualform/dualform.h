@@ -484,6 +484,54 @@ DFM_API dfm_result dfm_session_release_frame(dfm_session* session);
  * Not concurrent with other calls on the session. */
 DFM_API dfm_result dfm_session_bake(dfm_session* session);
 
+/* ================================================================ reports
+ * What a tool needs to report an edit as docs/scenarios.md describes it
+ * ("The report"): the quality figures of a frame, the solver's figures, and
+ * Loop subdivision for the scale cases. The Water-Filling diagnosis is
+ * dfm_water_fill_diagnosis above. */
+
+/* The quality figures of a frame, computed from the rest and deformed
+ * positions alone. Lengths are fractions of the rest bounding-box diagonal. */
+typedef struct dfm_quality {
+    double max_handle_error;       /* largest distance of a handle vertex from its target */
+    double mean_abs_log_edge;      /* over edges with a ROI endpoint, |log(new / rest length)| */
+    double max_abs_log_edge;       /* the largest of those */
+    double mean_normal_change_deg; /* mean turn of the face normals, faces with a ROI vertex */
+    double max_fixed_move;         /* largest move of a vertex outside the ROI; always 0 */
+    double dual_magnitude_error;   /* mean | |l_f| - |h_f| | over ROI faces / mean |h_f| */
+    size_t flipped_faces;          /* faces with a ROI vertex whose normal turned over 90 deg */
+} dfm_quality;
+
+/* Measures the newest frame against the rest pose and the targets staged
+ * now (so call it after the solve or wait that gave the frame, before
+ * staging others). `info` (may be NULL) says which frame. Thread safety as
+ * dfm_session_read_positions. */
+DFM_API dfm_result dfm_session_measure_quality(dfm_session* session, dfm_quality* out,
+                                               dfm_frame_info* info);
+
+/* The solver's figures: the system's set-up (fixed for the session, new
+ * after a bake) and the newest frame's linear solves. */
+typedef struct dfm_solve_report {
+    size_t unknowns;          /* vertices the solve moves */
+    size_t rows;              /* dual Laplacian rows of the system */
+    size_t normal_nonzeros;   /* stored entries of the normal matrix */
+    double setup_ms;          /* assembling and factoring it */
+    size_t krylov_iterations; /* inner iterations of the frame's solve, in total */
+    double linear_residual; /* ||b - N x|| / ||b|| of its final verified solve; NaN if unverified */
+    bool linear_converged;  /* that solve reached its tolerance */
+} dfm_solve_report;
+
+/* Fills *out for the newest frame; `info` (may be NULL) says which frame.
+ * Thread safety as dfm_session_read_positions. */
+DFM_API dfm_result dfm_session_get_solve_report(dfm_session* session, dfm_solve_report* out,
+                                                dfm_frame_info* info);
+
+/* A new mesh: `steps` (1 to 3) rounds of Loop subdivision of the mesh's
+ * current rest pose. The coarse vertices keep their indices, so vertex
+ * indices chosen on the coarse mesh keep their meaning. *out is owned by the
+ * caller. Thread-safe. */
+DFM_API dfm_result dfm_mesh_subdivide(const dfm_mesh* mesh, uint32_t steps, dfm_mesh** out);
+
 #ifdef __cplusplus
 }
 #endif
