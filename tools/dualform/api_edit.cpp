@@ -1,6 +1,7 @@
 #include "dualform/api_edit.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -38,6 +39,33 @@ Status ball(const BallSelection& spec, const ScenarioMesh& mesh, const std::stri
         return s;
     }
     return read_roi(RoiPtr(roi), out);
+}
+
+void append_shortest(std::string& out, double value) {
+    char buffer[32];
+    const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+    out.append(buffer, ec == std::errc() ? end : buffer);
+}
+
+// The vertex a click picks: the nearest corner of the face it hits.
+Status click_vertex(const ScenarioMesh& mesh, const dfm_camera& camera, glm::dvec2 pixel,
+                    const std::string& what, std::uint32_t& out) {
+    dfm_hit hit = {};
+    if (Status s =
+            api_status(dfm_mesh_pick(mesh.mesh.get(), &camera, pixel.x, pixel.y, &hit), what);
+        !s) {
+        return s;
+    }
+    if (!hit.hit) {
+        std::string message = what + ": the click at [";
+        append_shortest(message, pixel.x);
+        message += ", ";
+        append_shortest(message, pixel.y);
+        message += "] hits nothing";
+        return Status(Errc::invalid_argument, std::move(message));
+    }
+    out = hit.vertex;
+    return Status::ok();
 }
 
 // Rotation about the pivot first, then translation: the order a user
@@ -106,8 +134,6 @@ Status select_roi(const RoiSpec& spec, const ScenarioMesh& mesh, ScenarioRoi& ou
     dfm_roi* roi = nullptr;
     switch (spec.kind) {
         case RoiSpec::Kind::water_fill: {
-            if (Status s = check_vertex(spec.first, mesh, "roi.water_fill.first"); !s) return s;
-            if (Status s = check_vertex(spec.last, mesh, "roi.water_fill.last"); !s) return s;
             dfm_water_fill_diagnosis diagnosis = {};
             if (Status s = api_status(
                     dfm_roi_water_fill(m, spec.first, spec.last, &roi, &diagnosis), "roi");
@@ -118,12 +144,22 @@ Status select_roi(const RoiSpec& spec, const ScenarioMesh& mesh, ScenarioRoi& ou
             break;
         }
         case RoiSpec::Kind::water_fill_clicks: {
-            const double first[2] = {spec.first_pixel.x, spec.first_pixel.y};
-            const double last[2] = {spec.last_pixel.x, spec.last_pixel.y};
+            // Each click is picked here, as dfm_roi_water_fill_clicks would,
+            // so that a miss names the scenario's field.
+            const std::string what = "roi.water_fill_clicks";
+            std::uint32_t first = 0;
+            std::uint32_t last = 0;
+            if (Status s =
+                    click_vertex(mesh, spec.camera, spec.first_pixel, what + ".first", first);
+                !s) {
+                return s;
+            }
+            if (Status s = click_vertex(mesh, spec.camera, spec.last_pixel, what + ".last", last);
+                !s) {
+                return s;
+            }
             dfm_water_fill_diagnosis diagnosis = {};
-            if (Status s = api_status(
-                    dfm_roi_water_fill_clicks(m, &spec.camera, first, last, &roi, &diagnosis),
-                    "roi.water_fill_clicks");
+            if (Status s = api_status(dfm_roi_water_fill(m, first, last, &roi, &diagnosis), what);
                 !s) {
                 return s;
             }

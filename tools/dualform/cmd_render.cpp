@@ -9,6 +9,7 @@
 #include "dualform/commands.hpp"
 #include "dualform/pick_camera.hpp"
 #include "dualform/render_scene.hpp"
+#include "dualform/scenario.hpp"
 #include "environment/host_environment.hpp"
 #include "json/json_writer.hpp"
 #include "render/png_writer.hpp"

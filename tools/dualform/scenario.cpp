@@ -8,6 +8,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <new>
+#include <sstream>
 #include <system_error>
 #include <unordered_map>
 #include <utility>
@@ -594,6 +595,20 @@ Status parse_camera(std::string_view text, std::string_view source, dfm_camera& 
     } catch (const std::bad_alloc&) {
         return out_of_memory(source);
     }
+}
+
+Status read_camera_argument(std::string_view argument, dfm_camera& out) {
+    const std::size_t start = argument.find_first_not_of(" \t\r\n");
+    if (start != std::string_view::npos && argument[start] == '{') {
+        return parse_camera(argument, "--camera", out);
+    }
+    const std::string path(argument);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return Status(Errc::io_error, path + ": cannot open: " + std::strerror(errno));
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) return Status(Errc::io_error, path + ": read failed");
+    return parse_camera(text.str(), path, out);
 }
 
 Status load_scenario(const std::filesystem::path& path, Scenario& out) {

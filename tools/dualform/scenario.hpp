@@ -83,6 +83,10 @@ Status parse_scenario(std::string_view text, std::string_view source, Scenario& 
 // are located the same way.
 Status parse_camera(std::string_view text, std::string_view source, dfm_camera& out);
 
+// A --camera argument: CAMERA JSON written inline when its first non-blank
+// character is '{', otherwise the path of a file holding it.
+Status read_camera_argument(std::string_view argument, dfm_camera& out);
+
 // Reads and parses a scenario file; base_dir is set to its folder.
 Status load_scenario(const std::filesystem::path& path, Scenario& out);
 
