@@ -1,7 +1,6 @@
 #include "dualform/api_edit.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -9,6 +8,8 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat4x4.hpp>
+
+#include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
@@ -41,12 +42,6 @@ Status ball(const BallSelection& spec, const ScenarioMesh& mesh, const std::stri
     return read_roi(RoiPtr(roi), out);
 }
 
-void append_shortest(std::string& out, double value) {
-    char buffer[32];
-    const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
-    out.append(buffer, ec == std::errc() ? end : buffer);
-}
-
 // The vertex a click picks: the nearest corner of the face it hits.
 Status click_vertex(const ScenarioMesh& mesh, const dfm_camera& camera, glm::dvec2 pixel,
                     const std::string& what, std::uint32_t& out) {
@@ -58,9 +53,9 @@ Status click_vertex(const ScenarioMesh& mesh, const dfm_camera& camera, glm::dve
     }
     if (!hit.hit) {
         std::string message = what + ": the click at [";
-        append_shortest(message, pixel.x);
+        json::append_number(message, pixel.x);
         message += ", ";
-        append_shortest(message, pixel.y);
+        json::append_number(message, pixel.y);
         message += "] hits nothing";
         return Status(Errc::invalid_argument, std::move(message));
     }

@@ -1,4 +1,5 @@
 #include "dualform/edit_report.hpp"
+#include "dualform/edit_setup.hpp"
 
 namespace dfm::cli {
 

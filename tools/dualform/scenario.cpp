@@ -15,8 +15,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "core/number_text.hpp"
 #include "json/json_reader.hpp"
+#include "json/json_writer.hpp"
 
 // Every field the format does not define is an error, so that a misspelt
 // optional field ("tolerence") cannot silently fall back to a default. The
@@ -26,6 +26,7 @@ namespace dfm::cli {
 
 namespace {
 
+using json::append_number;
 using json::json_location;
 using json::json_printable;
 using json::json_type_phrase;

@@ -5,6 +5,12 @@
 
 namespace dfm::json {
 
+void append_number(std::string& out, double value) {
+    char buffer[32];
+    const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+    out.append(buffer, ec == std::errc() ? end : buffer);
+}
+
 void JsonWriter::newline() {
     if (layout_ == Layout::compact) return;
     out_ += '\n';
@@ -68,9 +74,7 @@ JsonWriter& JsonWriter::value(double v) {
         out_ += "null";
         return *this;
     }
-    char buffer[32];
-    const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, v);
-    out_.append(buffer, ec == std::errc() ? end : buffer);
+    append_number(out_, v);
     return *this;
 }
 

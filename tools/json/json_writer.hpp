@@ -8,6 +8,9 @@
 
 namespace dfm::json {
 
+// Appends the shortest text that reads back as exactly `value`.
+void append_number(std::string& out, double value);
+
 // Writes one JSON value, compact (what the tools print, one line) or
 // indented (files a person reads). Keys and values alternate inside objects;
 // strings are escaped (quotes, backslashes, control characters), numbers are
