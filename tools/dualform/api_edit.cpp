@@ -114,13 +114,22 @@ Status open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out) {
         }
         out.mesh.reset(fine);
     }
-    if (Status s = api_status(dfm_mesh_get_info(out.mesh.get(), &out.info)); !s) return s;
-    out.rest.resize(out.info.vertex_count);
+    return refresh_scenario_mesh(out);
+}
+
+Status refresh_scenario_mesh(ScenarioMesh& mesh) {
+    if (Status s = api_status(dfm_mesh_get_info(mesh.mesh.get(), &mesh.info)); !s) return s;
+    mesh.rest.resize(mesh.info.vertex_count);
     dfm_vec3_output positions = {};
-    positions.data = out.rest.data();
-    positions.count = out.rest.size();
+    positions.data = mesh.rest.data();
+    positions.count = mesh.rest.size();
     positions.type = DFM_SCALAR_FLOAT64;
-    return api_status(dfm_mesh_read_positions(out.mesh.get(), &positions));
+    return api_status(dfm_mesh_read_positions(mesh.mesh.get(), &positions));
+}
+
+Status read_mesh_indices(const ScenarioMesh& mesh, std::vector<std::uint32_t>& out) {
+    out.resize(3 * mesh.info.triangle_count);
+    return api_status(dfm_mesh_read_indices(mesh.mesh.get(), out.data(), out.size()));
 }
 
 Status select_roi(const RoiSpec& spec, const ScenarioMesh& mesh, ScenarioRoi& out) {

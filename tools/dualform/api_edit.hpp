@@ -23,6 +23,12 @@ struct ScenarioMesh {
 
 Status open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out);
 
+// Reads the info and rest positions again, after a bake.
+Status refresh_scenario_mesh(ScenarioMesh& mesh);
+
+// The triangles' vertex indices, three per triangle.
+Status read_mesh_indices(const ScenarioMesh& mesh, std::vector<std::uint32_t>& out);
+
 // The ROI the spec selects, with its vertices ascending. For the
 // Water-Filling kinds `diagnosis` receives the fill's diagnosis; otherwise
 // it is reset. Errors name the scenario's field.

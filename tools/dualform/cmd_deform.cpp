@@ -32,12 +32,8 @@ Status save_result(const ScenarioMesh& mesh, dfm_session* session, const std::st
     out.count = mesh.info.vertex_count;
     out.type = DFM_SCALAR_FLOAT64;
     if (Status s = api_status(dfm_session_read_positions(session, &out, nullptr)); !s) return s;
-    std::vector<std::uint32_t> indices(3 * mesh.info.triangle_count);
-    if (Status s =
-            api_status(dfm_mesh_read_indices(mesh.mesh.get(), indices.data(), indices.size()));
-        !s) {
-        return s;
-    }
+    std::vector<std::uint32_t> indices;
+    if (Status s = read_mesh_indices(mesh, indices); !s) return s;
     dfm_mesh_desc desc = {};
     desc.positions.data = positions.data();
     desc.positions.count = mesh.info.vertex_count;
