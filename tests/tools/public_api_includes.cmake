@@ -9,11 +9,8 @@
 cmake_minimum_required(VERSION 3.25)
 set(still_on_engine
   cmd_bench.cpp       # times the engine's internals (set-up, solve, drag) apart
-  cmd_convert.cpp     # the writers' options (PLY encoding, OBJ normals) are not API
-  cmd_info.cpp        # the load report and topology counts are not API
   edit_report.cpp     # also writes the engine's figures, for cmd_bench
   edit_setup.cpp edit_setup.hpp
-  mesh_input.cpp mesh_input.hpp
   pick_camera.cpp pick_camera.hpp
 )
 file(GLOB sources "${TOOL_DIR}/*.cpp" "${TOOL_DIR}/*.hpp")

@@ -532,6 +532,53 @@ DFM_API dfm_result dfm_session_get_solve_report(dfm_session* session, dfm_solve_
  * caller. Thread-safe. */
 DFM_API dfm_result dfm_mesh_subdivide(const dfm_mesh* mesh, uint32_t steps, dfm_mesh** out);
 
+/* What loading a file found besides the mesh (dfm_mesh_load_with_report). */
+typedef struct dfm_load_report {
+    size_t polygons;              /* faces as the file lists them */
+    size_t triangulated_polygons; /* polygons of more than three corners, fanned */
+    size_t dropped_faces;         /* triangles dropped for repeating a vertex */
+} dfm_load_report;
+
+/* dfm_mesh_load, and what the file held besides the mesh into *report (the
+ * caller's; zeroed on failure). Errors, log and ownership as dfm_mesh_load.
+ * Thread-safe. */
+DFM_API dfm_result dfm_mesh_load_with_report(dfm_context* context, const char* path,
+                                             dfm_load_report* report, dfm_mesh** out);
+
+/* A mesh's topology and shape figures, beyond dfm_mesh_info. */
+typedef struct dfm_mesh_summary {
+    size_t edges;                /* distinct edges */
+    size_t boundary_edges;       /* edges with one triangle */
+    size_t non_manifold_edges;   /* edges with more than two triangles */
+    size_t inconsistent_edges;   /* edges two triangles run the same way */
+    size_t components;           /* connected components */
+    size_t isolated_vertices;    /* vertices of no triangle */
+    size_t degenerate_triangles; /* of zero area, relative to the diagonal */
+    bool closed;                 /* no boundary and no non-manifold edge */
+} dfm_mesh_summary;
+
+/* Fills *out for the mesh's current rest pose. Thread-safe. */
+DFM_API dfm_result dfm_mesh_get_summary(const dfm_mesh* mesh, dfm_mesh_summary* out);
+
+/* How dfm_mesh_save_with_options writes PLY. */
+typedef enum dfm_ply_encoding {
+    DFM_PLY_BINARY_LITTLE_ENDIAN = 0, /* the default */
+    DFM_PLY_BINARY_BIG_ENDIAN = 1,
+    DFM_PLY_ASCII = 2
+} dfm_ply_encoding;
+
+/* Options of dfm_mesh_save_with_options; zero: dfm_mesh_save's output. */
+typedef struct dfm_save_options {
+    dfm_ply_encoding ply_encoding; /* PLY only */
+    bool ply_float;                /* PLY coordinates as float (default double, exact) */
+    bool obj_normals;              /* OBJ: area-weighted vertex normals, faces as v//vn */
+} dfm_save_options;
+
+/* dfm_mesh_save with options (NULL: the defaults). DFM_ERROR_INVALID_ARGUMENT
+ * for an unknown encoding. Thread-safe. */
+DFM_API dfm_result dfm_mesh_save_with_options(const dfm_mesh* mesh, const char* path,
+                                              const dfm_save_options* options);
+
 #ifdef __cplusplus
 }
 #endif
