@@ -4,10 +4,13 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <vector>
 
 #include "dualform/dualform.h"
 #include "sdk_fixture.hpp"
+#include "support/test_files.hpp"
 
 using namespace dfm::test;
 
@@ -83,4 +86,68 @@ TEST_CASE("reports: Loop subdivision keeps the coarse vertices and their indices
     CHECK(none == nullptr);
     CHECK(dfm_mesh_subdivide(nullptr, 1, &none) == DFM_ERROR_INVALID_HANDLE);
     CHECK(dfm_mesh_subdivide(limb.mesh, 1, nullptr) == DFM_ERROR_INVALID_ARGUMENT);
+}
+
+TEST_CASE("reports: a load's figures, the summary, and saving with options") {
+    dfm_context* context = nullptr;
+    REQUIRE(dfm_context_create(nullptr, &context) == DFM_OK);
+    const std::filesystem::path dir = scratch_dir("sdk_reports");
+    // A tetrahedron and a triangle that repeats a vertex (dropped).
+    write_text(dir / "shape.off",
+               "OFF\n4 5 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+               "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n3 0 0 1\n");
+    // A square written as one quad, fanned into two triangles.
+    write_text(dir / "square.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+    dfm_load_report loaded = {};
+    dfm_mesh* square = nullptr;
+    REQUIRE_MESSAGE(dfm_mesh_load_with_report(context, (dir / "square.off").string().c_str(),
+                                              &loaded, &square) == DFM_OK,
+                    last_error());
+    CHECK(loaded.polygons == 1);
+    CHECK(loaded.triangulated_polygons == 1);
+    CHECK(loaded.dropped_faces == 0);
+    dfm_mesh_summary flat = {};
+    REQUIRE(dfm_mesh_get_summary(square, &flat) == DFM_OK);
+    CHECK(flat.boundary_edges == 4);
+    CHECK_FALSE(flat.closed);
+    dfm_mesh_destroy(square);
+
+    dfm_mesh* mesh = nullptr;
+    REQUIRE_MESSAGE(dfm_mesh_load_with_report(context, (dir / "shape.off").string().c_str(),
+                                              &loaded, &mesh) == DFM_OK,
+                    last_error());
+    CHECK(loaded.polygons == 5);
+    CHECK(loaded.triangulated_polygons == 0);
+    CHECK(loaded.dropped_faces == 1);
+
+    dfm_mesh_summary summary = {};
+    REQUIRE(dfm_mesh_get_summary(mesh, &summary) == DFM_OK);
+    CHECK(summary.edges == 6);
+    CHECK(summary.boundary_edges == 0);
+    CHECK(summary.non_manifold_edges == 0);
+    CHECK(summary.components == 1);
+    CHECK(summary.isolated_vertices == 0);
+    CHECK(summary.closed);
+
+    dfm_save_options options = {};
+    options.ply_encoding = DFM_PLY_ASCII;
+    const std::filesystem::path ply = dir / "shape.ply";
+    REQUIRE(dfm_mesh_save_with_options(mesh, ply.string().c_str(), &options) == DFM_OK);
+    CHECK(read_text(ply).starts_with("ply\nformat ascii 1.0\n"));
+    const int unknown = 7;
+    std::memcpy(&options.ply_encoding, &unknown, sizeof unknown);
+    CHECK(dfm_mesh_save_with_options(mesh, ply.string().c_str(), &options) ==
+          DFM_ERROR_INVALID_ARGUMENT);
+    CHECK(message_has("ply_encoding 7"));
+
+    dfm_mesh* none = nullptr;
+    CHECK(dfm_mesh_load_with_report(context, (dir / "missing.off").string().c_str(), &loaded,
+                                    &none) == DFM_ERROR_NOT_FOUND);
+    CHECK(none == nullptr);
+    CHECK(loaded.polygons == 0);
+    CHECK(dfm_mesh_load_with_report(context, "x.off", nullptr, &none) ==
+          DFM_ERROR_INVALID_ARGUMENT);
+    CHECK(dfm_mesh_get_summary(nullptr, &summary) == DFM_ERROR_INVALID_HANDLE);
+    dfm_mesh_destroy(mesh);
+    dfm_context_destroy(context);
 }
