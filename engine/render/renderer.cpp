@@ -114,7 +114,8 @@ RenderStatus Renderer::broken(RenderStatus status) {
 }
 
 RenderStatus Renderer::wait_idle() const {
-    const VkResult r = owns_device() ? vkDeviceWaitIdle(gpu_.device) : vkQueueWaitIdle(gpu_.queue);
+    // Own devices only: a host's queue is never waited on.
+    const VkResult r = vkDeviceWaitIdle(gpu_.device);
     return r == VK_SUCCESS ? RenderStatus::ok() : vk_failure(r, "waiting for the device");
 }
 
