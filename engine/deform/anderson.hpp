@@ -8,7 +8,7 @@ namespace dfm::deform {
 
 // Anderson acceleration of a fixed-point iteration x <- G(x) (type II, the
 // "AA(m)" of Walker and Ni). The two-step dual Laplacian iteration contracts
-// linearly, at 0.6 to 0.99 per step (DESIGN.md); extrapolating from the last
+// linearly, at 0.6 to 0.99 per step (docs/design.md); extrapolating from the last
 // m steps cuts the step count several times on large ROIs. The fixed point
 // is the same: only the path to it changes. Buffers are sized once, so a
 // step allocates nothing.

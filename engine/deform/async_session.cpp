@@ -29,6 +29,7 @@ Status AsyncSession::create(std::unique_ptr<DeformSession> session,
         std::unique_ptr<AsyncSession> s(new AsyncSession(std::move(session)));
         s->handle_vertices_.assign(s->session_->handle_vertices().begin(),
                                    s->session_->handle_vertices().end());
+        s->setup_ = s->session_->setup_report();
         s->moving_.assign(roi.begin(), roi.end());
         std::sort(s->moving_.begin(), s->moving_.end());
         s->moving_.erase(std::unique(s->moving_.begin(), s->moving_.end()), s->moving_.end());

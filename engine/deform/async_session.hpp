@@ -38,7 +38,7 @@ struct Frame {
 
 std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
 
-// A DeformSession behind a worker thread (DESIGN.md, "Asynchronous engine").
+// A DeformSession behind a worker thread (docs/design.md, "The asynchronous session").
 // The host submits targets without blocking; latest wins: queued targets that
 // a newer submit replaces are never solved. A running solve finishes (only
 // cancel, destroy and solve_now stop it early), so every finished frame is a
@@ -119,6 +119,8 @@ public:
     std::span<const std::uint32_t> normal_vertices() const { return normals_.vertices(); }
     std::span<const std::uint32_t> handle_vertices() const { return handle_vertices_; }
     const MeshModel& model() const { return model_; }
+    // The set-up of the session's system (fixed for its life).
+    const SetupReport& setup_report() const { return setup_; }
 
 private:
     explicit AsyncSession(std::unique_ptr<DeformSession> session);
@@ -155,6 +157,7 @@ private:
     int reading_ = -1;
     int held_ = -1;
     std::array<Frame, 4> frames_;
+    SetupReport setup_;
 
     // Held by whoever runs the DeformSession: the worker or solve_now.
     std::mutex solve_mutex_;

@@ -39,7 +39,7 @@ struct DeformSettings {
     // diagonal. It vanishes at the fixed point, so it never moves the result.
     double regularization = 1e-9;
     // Scales h by sqrt(area / rest area) so a stretched region keeps its
-    // relative detail. Off by default (DESIGN.md).
+    // relative detail. Off by default (docs/design.md).
     bool scale_heights = false;
     // Accuracy of each linear solve, in units of the rest diagonal.
     double linear_tolerance = 1e-8;

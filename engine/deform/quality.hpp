@@ -8,7 +8,7 @@
 
 namespace dfm::deform {
 
-// The quality figures of an edit (../shared/SCENARIOS.md, "The report"),
+// The quality figures of an edit (docs/scenarios.md, "The report"),
 // computed from the rest and deformed positions alone, so any engine's
 // output can be scored the same way. Lengths are fractions of the rest
 // diagonal.

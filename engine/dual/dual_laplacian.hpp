@@ -8,8 +8,8 @@
 #include "mesh/adjacency.hpp"
 #include "mesh/mesh.hpp"
 
-// The dual Laplacian of Au et al. (DESIGN.md, "The method, stated
-// precisely"). The dual vertex of face f is its centroid; its dual 1-ring
+// The dual Laplacian of Au et al. (docs/design.md, "The dual
+// Laplacian"). The dual vertex of face f is its centroid; its dual 1-ring
 // is the centroids of the faces across its edges v0v1, v1v2, v2v0, in that
 // order. Projecting the centroid onto the plane of its 1-ring gives the
 // weights w_f (barycentric coordinates of the foot, summing to 1) and the

@@ -1,26 +1,11 @@
 #include "mesh/model_cache.hpp"
 
-#include <pwd.h>
-#include <unistd.h>
-
-#include <cstdlib>
 #include <string>
 
 namespace dfm::mesh {
 
-std::filesystem::path models_directory() {
-    if (const char* dir = std::getenv("DUALFORM_MODELS"); dir != nullptr && *dir != '\0') {
-        return dir;
-    }
-    const char* home = std::getenv("HOME");
-    if (home == nullptr || *home == '\0') {
-        const passwd* user = getpwuid(getuid());
-        home = user != nullptr ? user->pw_dir : "/tmp";
-    }
-    return std::filesystem::path(home) / ".cache" / "dualform" / "models";
-}
-
 Status resolve_mesh_spec(std::string_view spec, const std::filesystem::path& base,
+                         const std::filesystem::path& models_directory,
                          std::filesystem::path& out) {
     constexpr std::string_view prefix = "model:";
     if (!spec.starts_with(prefix)) {
@@ -38,7 +23,10 @@ Status resolve_mesh_spec(std::string_view spec, const std::filesystem::path& bas
         return Status(Errc::invalid_argument,
                       quoted + "a model name is a plain file name, like model:cow");
     }
-    out = models_directory() / (std::string(name) + ".off");
+    if (models_directory.empty()) {
+        return Status(Errc::not_found, quoted + "no models folder was given");
+    }
+    out = models_directory / (std::string(name) + ".off");
     std::error_code ec;
     if (!std::filesystem::is_regular_file(out, ec)) {
         return Status(Errc::not_found,

@@ -7,14 +7,12 @@
 
 namespace dfm::mesh {
 
-// The real-model cache that tools/fetch-models fills: $DUALFORM_MODELS, or
-// $HOME/.cache/dualform/models.
-std::filesystem::path models_directory();
-
-// Turns "model:NAME" into the cached NAME.off, and passes any other spec
-// through as a path (relative ones against `base`). A missing cached model
-// is an error that says how to fetch it.
+// Turns "model:NAME" into NAME.off in `models_directory` (the folder
+// tools/fetch-models fills; the caller says where it is, the library never
+// guesses), and passes any other spec through as a path (relative ones
+// against `base`). A missing models folder or cached model is an error that
+// says how to fix it.
 Status resolve_mesh_spec(std::string_view spec, const std::filesystem::path& base,
-                         std::filesystem::path& out);
+                         const std::filesystem::path& models_directory, std::filesystem::path& out);
 
 }  // namespace dfm::mesh

@@ -10,14 +10,17 @@
 
 namespace dfm::pick {
 
-// A pinhole camera as ../shared/SCENARIOS.md defines it: at `eye`, looking at
+// A pinhole camera as docs/scenarios.md defines it: at `eye`, looking at
 // `target`, `up` giving the image's up direction, `fov_y_degrees` the full
-// vertical opening, an image of width × height pixels.
+// vertical opening, an image of width × height pixels. The one camera of
+// the project: the C API's dfm_camera has the same fields and conventions,
+// and, like a zero-initialised dfm_camera, a default-made one has no view
+// yet (check_camera refuses it) until every field is given.
 struct Camera {
-    glm::dvec3 eye{0.0, 0.0, 1.0};
+    glm::dvec3 eye{0.0};
     glm::dvec3 target{0.0};
-    glm::dvec3 up{0.0, 1.0, 0.0};
-    double fov_y_degrees = 60.0;
+    glm::dvec3 up{0.0};
+    double fov_y_degrees = 0.0;
     std::uint32_t width = 0;
     std::uint32_t height = 0;
 };

@@ -39,8 +39,8 @@ RenderStatus Instance::create(const std::vector<const char*>& extensions, bool v
     }
     if (validation && !layer_available(validation_layer)) {
         return RenderStatus(Fault::unsupported,
-                            "DUALFORM_VALIDATION=1 but VK_LAYER_KHRONOS_validation is not "
-                            "installed (Debian: vulkan-validationlayers)");
+                            "validation was asked for, but VK_LAYER_KHRONOS_validation is "
+                            "not installed (Debian: vulkan-validationlayers)");
     }
     VkApplicationInfo app{};
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;

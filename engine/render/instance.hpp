@@ -18,7 +18,7 @@ public:
     Instance& operator=(const Instance&) = delete;
     ~Instance();
 
-    // `extensions`: what the surface needs (GLFW's list), empty when headless.
+    // `extensions`: what the window's surface needs, empty when headless.
     // `counter` must outlive the instance.
     static RenderStatus create(const std::vector<const char*>& extensions, bool validation,
                                ValidationCounter& counter, Instance& out);

@@ -1,8 +1,5 @@
 #include "render/renderer.hpp"
 
-#define GLFW_INCLUDE_VULKAN
-#include <GLFW/glfw3.h>
-
 #include <algorithm>
 #include <cstring>
 #include <utility>
@@ -17,34 +14,28 @@ constexpr VkFormat depth_format = VK_FORMAT_D32_SFLOAT;
 }  // namespace
 
 Renderer::~Renderer() {
-    if (gpu_.device != VK_NULL_HANDLE) {
-        // On a host's device only our queue is waited for: the host's other
-        // work is none of ours.
-        if (owns_device()) {
-            vkDeviceWaitIdle(gpu_.device);
-        } else {
-            vkQueueWaitIdle(gpu_.queue);
-        }
-    }
+    // On a host's device nothing is waited for: the host's queue is the
+    // host's, and it has finished the command buffers we recorded into
+    // before it destroys us (dualform_vulkan.h says so).
+    if (owns_device()) vkDeviceWaitIdle(gpu_.device);
     swapchain_.reset();
     if (surface_ != VK_NULL_HANDLE) vkDestroySurfaceKHR(instance_.handle(), surface_, nullptr);
 }
 
-RenderStatus Renderer::create_own(const OwnDeviceOptions& options,
-                                  const std::vector<const char*>& surface_extensions,
-                                  GLFWwindow* window) {
+RenderStatus Renderer::create_own(const OwnDeviceOptions& options, const WindowSurface* window) {
+    const std::vector<const char*> no_extensions;
     if (RenderStatus s =
-            Instance::create(surface_extensions, options.validation, *counter_, instance_);
+            Instance::create(window != nullptr ? window->instance_extensions : no_extensions,
+                             options.validation, *counter_, instance_);
         !s) {
         return s;
     }
     if (window != nullptr) {
-        if (VkResult r = glfwCreateWindowSurface(instance_.handle(), window, nullptr, &surface_);
-            r != VK_SUCCESS) {
+        if (VkResult r = window->create_surface(instance_.handle(), &surface_); r != VK_SUCCESS) {
             surface_ = VK_NULL_HANDLE;
-            return vk_failure(r, "glfwCreateWindowSurface");
+            return vk_failure(r, "creating the window's surface");
         }
-        window_ = window;
+        window_extent_ = window->framebuffer_extent;
     }
     if (RenderStatus s = Device::create(instance_.handle(), surface_, owned_device_); !s) return s;
     gpu_ = owned_device_.gpu();
@@ -68,32 +59,22 @@ RenderStatus Renderer::create_headless(const OwnDeviceOptions& options,
         return RenderStatus(Fault::invalid_argument, "frames_in_flight must lie in 1..8");
     }
     std::unique_ptr<Renderer> r(new Renderer(options.frames_in_flight));
-    if (RenderStatus s = r->create_own(options, {}, nullptr); !s) return s;
+    if (RenderStatus s = r->create_own(options, nullptr); !s) return s;
     out = std::move(r);
     return RenderStatus::ok();
 }
 
-RenderStatus Renderer::create_window(const OwnDeviceOptions& options, GLFWwindow* window,
+RenderStatus Renderer::create_window(const OwnDeviceOptions& options, WindowSurface window,
                                      std::unique_ptr<Renderer>& out) {
-    if (window == nullptr) return RenderStatus(Fault::invalid_argument, "window is NULL");
+    if (!window.create_surface || !window.framebuffer_extent) {
+        return RenderStatus(Fault::invalid_argument,
+                            "a window needs its create_surface and framebuffer_size functions");
+    }
     if (options.frames_in_flight == 0 || options.frames_in_flight > 8) {
         return RenderStatus(Fault::invalid_argument, "frames_in_flight must lie in 1..8");
     }
-    if (glfwVulkanSupported() != GLFW_TRUE) {
-        return RenderStatus(Fault::unsupported,
-                            "GLFW finds no Vulkan loader or no surface support");
-    }
-    std::uint32_t count = 0;
-    const char** names = glfwGetRequiredInstanceExtensions(&count);
-    if (names == nullptr) {
-        return RenderStatus(Fault::unsupported, "GLFW cannot name the surface extensions");
-    }
     std::unique_ptr<Renderer> r(new Renderer(options.frames_in_flight));
-    if (RenderStatus s =
-            r->create_own(options, std::vector<const char*>(names, names + count), window);
-        !s) {
-        return s;
-    }
+    if (RenderStatus s = r->create_own(options, &window); !s) return s;
     out = std::move(r);
     return RenderStatus::ok();
 }
@@ -133,7 +114,8 @@ RenderStatus Renderer::broken(RenderStatus status) {
 }
 
 RenderStatus Renderer::wait_idle() const {
-    const VkResult r = owns_device() ? vkDeviceWaitIdle(gpu_.device) : vkQueueWaitIdle(gpu_.queue);
+    // Own devices only: a host's queue is never waited on.
+    const VkResult r = vkDeviceWaitIdle(gpu_.device);
     return r == VK_SUCCESS ? RenderStatus::ok() : vk_failure(r, "waiting for the device");
 }
 
@@ -142,8 +124,12 @@ RenderStatus Renderer::set_mesh(const StridedPositions& positions,
     if (RenderStatus s = check_usable(); !s) return s;
     SceneData next = scene_;
     if (RenderStatus s = next.set_mesh(positions, triangle_indices); !s) return s;
-    // The index buffer is replaced, so no frame may still read the old one.
-    if (RenderStatus s = wait_idle(); !s) return broken(s);
+    // The index buffer is replaced while frames in flight may still read the
+    // old one. Our own device is waited for; a host's is not: the old buffer
+    // lives on until the host's frame fence covers the last draw that used it.
+    if (owns_device()) {
+        if (RenderStatus s = wait_idle(); !s) return broken(s);
+    }
     GpuBuffer indices;
     if (RenderStatus s = GpuBuffer::create(gpu_, next.indices().size_bytes(),
                                            VK_BUFFER_USAGE_INDEX_BUFFER_BIT, true, indices);
@@ -151,6 +137,9 @@ RenderStatus Renderer::set_mesh(const StridedPositions& positions,
         return s;
     }
     std::memcpy(indices.mapped(), next.indices().data(), next.indices().size_bytes());
+    if (!owns_device() && indices_.handle() != VK_NULL_HANDLE) {
+        retired_indices_.push_back({std::move(indices_), host_uploads_});
+    }
     indices_ = std::move(indices);
     scene_ = std::move(next);
     return RenderStatus::ok();
@@ -231,16 +220,13 @@ RenderStatus Renderer::render_offscreen(const ViewSettings& view, std::span<std:
 
 RenderStatus Renderer::rebuild_swapchain(bool& usable) {
     usable = false;
-    int width = 0;
-    int height = 0;
-    glfwGetFramebufferSize(window_, &width, &height);
-    if (width <= 0 || height <= 0) return RenderStatus::ok();
+    const VkExtent2D extent = window_extent_();
+    if (extent.width == 0 || extent.height == 0) return RenderStatus::ok();
     if (RenderStatus s = wait_idle(); !s) return s;
     swapchain_.reset();
     auto next = std::make_unique<Swapchain>();
-    if (RenderStatus s = Swapchain::create(
-            gpu_, surface_, formats_, surface_format_,
-            {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height)}, vsync_, *next);
+    if (RenderStatus s =
+            Swapchain::create(gpu_, surface_, formats_, surface_format_, extent, vsync_, *next);
         !s) {
         return s;
     }
@@ -252,15 +238,13 @@ RenderStatus Renderer::rebuild_swapchain(bool& usable) {
 RenderStatus Renderer::present(const ViewSettings& view, bool& presented) {
     presented = false;
     if (RenderStatus s = check_usable(); !s) return s;
-    if (window_ == nullptr) {
+    if (!window_extent_) {
         return RenderStatus(Fault::unsupported, "present needs a renderer made for a window");
     }
-    int width = 0;
-    int height = 0;
-    glfwGetFramebufferSize(window_, &width, &height);
-    if (width <= 0 || height <= 0) return RenderStatus::ok();  // minimised
-    if (!swapchain_ || swapchain_->extent().width != static_cast<std::uint32_t>(width) ||
-        swapchain_->extent().height != static_cast<std::uint32_t>(height)) {
+    const VkExtent2D extent = window_extent_();
+    if (extent.width == 0 || extent.height == 0) return RenderStatus::ok();  // minimised
+    if (!swapchain_ || swapchain_->extent().width != extent.width ||
+        swapchain_->extent().height != extent.height) {
         bool usable = false;
         if (RenderStatus s = rebuild_swapchain(usable); !s) return broken(s);
         if (!usable) return RenderStatus::ok();
@@ -317,6 +301,12 @@ RenderStatus Renderer::record_upload(VkCommandBuffer cmd) {
     if (cmd == VK_NULL_HANDLE)
         return RenderStatus(Fault::invalid_argument, "command buffer is NULL");
     host_slot_ = (host_slot_ + 1) % uploader_.slot_count();
+    // The host guarantees the GPU finished what it recorded slot_count
+    // uploads ago, so a buffer retired before then is no longer read.
+    ++host_uploads_;
+    std::erase_if(retired_indices_, [&](const RetiredBuffer& r) {
+        return r.last_upload + uploader_.slot_count() <= host_uploads_;
+    });
     if (RenderStatus s = uploader_.stage(gpu_, host_slot_, scene_); !s) return s;
     uploader_.record_copy(cmd, host_slot_);
     return RenderStatus::ok();

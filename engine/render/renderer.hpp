@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -20,9 +21,20 @@
 #include "render/swapchain.hpp"
 #include "render/validation.hpp"
 
-struct GLFWwindow;
-
 namespace dfm::render {
+
+// A window the renderer presents to, through whatever window system the
+// host uses: the renderer links none (the GLFW backend is its own target,
+// sdk/src/vulkan_glfw).
+struct WindowSurface {
+    // Instance extensions the surface needs (e.g. VK_KHR_surface and the
+    // platform's); the strings must live until creation returns.
+    std::vector<const char*> instance_extensions;
+    // Creates the window's surface on the renderer's instance.
+    std::function<VkResult(VkInstance, VkSurfaceKHR*)> create_surface;
+    // The framebuffer's size in pixels now; 0 × 0 while minimised.
+    std::function<VkExtent2D()> framebuffer_extent;
+};
 
 // Settings of a renderer that creates its own instance and device.
 struct OwnDeviceOptions {
@@ -43,7 +55,7 @@ struct HostDevice {
 
 // Draws a mesh with its ROI / handle / fixed highlight, a wireframe and host
 // lines. Three ways in: headless (own device, offscreen picture read back),
-// a GLFW window (own device, swapchain), or a host's device (the draw is
+// a window (own device, swapchain), or a host's device (the draw is
 // recorded into the host's command buffer inside the host's dynamic
 // rendering). Not thread-safe: one thread at a time.
 class Renderer {
@@ -54,8 +66,7 @@ public:
 
     static RenderStatus create_headless(const OwnDeviceOptions& options,
                                         std::unique_ptr<Renderer>& out);
-    // GLFW must be initialised and the window created with GLFW_NO_API.
-    static RenderStatus create_window(const OwnDeviceOptions& options, GLFWwindow* window,
+    static RenderStatus create_window(const OwnDeviceOptions& options, WindowSurface window,
                                       std::unique_ptr<Renderer>& out);
     static RenderStatus create_host(const HostDevice& host, std::unique_ptr<Renderer>& out);
 
@@ -91,8 +102,8 @@ public:
 private:
     explicit Renderer(std::size_t frames_in_flight) : uploader_(frames_in_flight) {}
 
-    RenderStatus create_own(const OwnDeviceOptions& options,
-                            const std::vector<const char*>& surface_extensions, GLFWwindow* window);
+    // `window` null: headless.
+    RenderStatus create_own(const OwnDeviceOptions& options, const WindowSurface* window);
     RenderStatus wait_idle() const;
     RenderStatus rebuild_swapchain(bool& usable);
     RenderStatus check_usable() const;
@@ -105,7 +116,7 @@ private:
     std::unique_ptr<ValidationCounter> counter_ = std::make_unique<ValidationCounter>();
     Instance instance_;
     VkSurfaceKHR surface_ = VK_NULL_HANDLE;
-    GLFWwindow* window_ = nullptr;
+    std::function<VkExtent2D()> window_extent_;  // empty unless made for a window
     Device owned_device_;
     Gpu gpu_;
     AttachmentFormats formats_;
@@ -113,10 +124,18 @@ private:
     bool vsync_ = true;
     bool failed_ = false;
     std::size_t host_slot_ = 0;
+    // Host path: record_upload calls so far, and index buffers replaced by
+    // set_mesh that a draw recorded after upload `last_upload` may still read.
+    struct RetiredBuffer {
+        GpuBuffer buffer;
+        std::size_t last_upload = 0;
+    };
+    std::size_t host_uploads_ = 0;
     CommandFrames frames_;
     Pipelines pipelines_;
     FrameUploader uploader_;
     GpuBuffer indices_;
+    std::vector<RetiredBuffer> retired_indices_;
     std::optional<OffscreenTarget> offscreen_;
     std::unique_ptr<Swapchain> swapchain_;
     SceneData scene_;

@@ -1,8 +1,6 @@
 #include "render/validation.hpp"
 
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 
 namespace dfm::render {
 
@@ -21,19 +19,12 @@ VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(
 
 }  // namespace
 
-bool validation_requested() {
-    const char* value = std::getenv("DUALFORM_VALIDATION");
-    return value != nullptr && std::strcmp(value, "1") == 0;
-}
-
 VkDebugUtilsMessengerCreateInfoEXT ValidationCounter::messenger_info() {
     VkDebugUtilsMessengerCreateInfoEXT info{};
     info.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
     info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
                            VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-    info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
-                       VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                       VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
     info.pfnUserCallback = on_validation_message;
     info.pUserData = this;
     return info;

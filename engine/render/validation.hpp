@@ -7,13 +7,12 @@
 
 namespace dfm::render {
 
-// Whether the environment asks for the Khronos validation layer
-// (DUALFORM_VALIDATION=1; tests always set it).
-bool validation_requested();
-
 // Counts every warning or error the validation layer reports, and prints it,
-// so a test can assert that a whole run produced none. Lives at a fixed
-// address for as long as the messenger that points at it.
+// so a test can assert that a whole run produced none. Only messages of the
+// validation type are heard: the loader's general notices (for instance
+// that VK_INSTANCE_LAYERS is set, the standard way a user turns the layer
+// on) say nothing about our use of Vulkan. Lives at a fixed address for as
+// long as the messenger that points at it.
 class ValidationCounter {
 public:
     std::uint64_t count() const { return count_.load(); }

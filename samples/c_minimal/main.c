@@ -15,6 +15,8 @@
 
 #include <dualform/dualform.h>
 
+#include "../common/sample_environment.h"
+
 static int ok(dfm_result result, const char* call) {
     if (result == DFM_OK) return 1;
     fprintf(stderr, "c_minimal: %s: %s: %s\n", call, dfm_result_name(result),
@@ -39,11 +41,14 @@ int main(int argc, char** argv) {
     uint32_t* hoof_vertices = NULL;
     int status = 1;
 
+    char models[4096];
+    dfm_context_desc context_desc = {0};
     dfm_mesh_info info = {0};
     dfm_water_fill_diagnosis diagnosis = {0};
     dfm_hit hit = {0};
     size_t leg_size = 0, hoof_size = 0;
-    if (!ok(dfm_context_create(NULL, &context), "dfm_context_create")) goto done;
+    context_desc.models_directory = sample_models_folder(models, sizeof models);
+    if (!ok(dfm_context_create(&context_desc, &context), "dfm_context_create")) goto done;
     if (!ok(dfm_mesh_load(context, mesh_path, &mesh), "dfm_mesh_load")) goto done;
     if (!ok(dfm_mesh_get_info(mesh, &info), "dfm_mesh_get_info")) goto done;
 

@@ -18,8 +18,10 @@
 #include <thread>
 #include <vector>
 
+#include "../common/sample_environment.h"
 #include "dualform/dualform.h"
 #include "dualform/dualform_vulkan.h"
+#include "dualform/dualform_vulkan_glfw.h"
 #include "rig.hpp"
 
 namespace {
@@ -91,7 +93,10 @@ int main(int argc, char** argv) {
     Scene scene;
     dfm_vk_frame frame = {};
 
-    if (!ok(dfm_context_create(nullptr, &context), "dfm_context_create") ||
+    char models[4096];
+    dfm_context_desc context_desc = {};
+    context_desc.models_directory = sample_models_folder(models, sizeof models);
+    if (!ok(dfm_context_create(&context_desc, &context), "dfm_context_create") ||
         !ok(dfm_mesh_load(context, options.model.c_str(), &mesh), "dfm_mesh_load") ||
         !ok(dfm_mesh_get_info(mesh, &info), "dfm_mesh_get_info") ||
         !game::make_rigs(mesh, options.model, rigs)) {
@@ -131,12 +136,15 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "game_loop: GLFW could not open a window\n");
             goto done;
         }
-        if (!ok(dfm_vk_renderer_create_window(nullptr, window, &renderer), "create_window")) {
+        dfm_vk_renderer_desc desc = {};
+        desc.validation = sample_validation();
+        if (!ok(dfm_vk_renderer_create_window(&desc, window, &renderer), "create_window")) {
             goto done;
         }
     } else {
         dfm_vk_renderer_desc desc = {};
         desc.max_samples = 1;
+        desc.validation = sample_validation();
         if (!ok(dfm_vk_renderer_create_headless(&desc, &renderer), "create_headless")) goto done;
     }
     if (!ok(dfm_vk_renderer_set_mesh(renderer, &scene_positions, scene.indices.data(),

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <fstream>
 
+#include "json/json_writer.hpp"
+
 namespace viewer {
 
 namespace {
@@ -517,14 +519,11 @@ bool Editor::save_mesh(const std::string& path) {
     return report(dfm_mesh_save(mesh_, path.c_str()), "dfm_mesh_save");
 }
 
-bool Editor::save_camera(const std::string& path) const {
-    const dfm_camera c = camera_.camera();
+namespace {
+
+bool write_json(const std::string& path, const dfm::json::JsonWriter& json) {
     std::ofstream out(path);
-    out.precision(17);
-    out << "{\"eye\": [" << c.eye[0] << ", " << c.eye[1] << ", " << c.eye[2] << "], \"target\": ["
-        << c.target[0] << ", " << c.target[1] << ", " << c.target[2] << "], \"up\": [" << c.up[0]
-        << ", " << c.up[1] << ", " << c.up[2] << "], \"fov_y_degrees\": " << c.fov_y_degrees
-        << ", \"width\": " << c.width << ", \"height\": " << c.height << "}\n";
+    out << json.str() << '\n';
     out.close();
     if (!out) {
         std::fprintf(stderr, "viewer: could not write %s\n", path.c_str());
@@ -533,37 +532,48 @@ bool Editor::save_camera(const std::string& path) const {
     return true;
 }
 
+}  // namespace
+
+bool Editor::save_camera(const std::string& path) const {
+    const dfm_camera c = camera_.camera();
+    dfm::json::JsonWriter json(dfm::json::JsonWriter::Layout::indented);
+    json.begin_object();
+    json.key("eye").numbers(c.eye, 3);
+    json.key("target").numbers(c.target, 3);
+    json.key("up").numbers(c.up, 3);
+    json.field("fov_y_degrees", c.fov_y_degrees);
+    json.field("width", c.width);
+    json.field("height", c.height);
+    json.end_object();
+    return write_json(path, json);
+}
+
 bool Editor::save_scenario(const std::string& path) const {
     if (roi_ == nullptr || groups_.empty()) {
         std::fprintf(stderr, "viewer: no edit to save yet (select a region and handles)\n");
         return false;
     }
-    std::ofstream out(path);
-    out.precision(17);
-    out << "{\n  \"description\": \"saved by the Dualform viewer\",\n  \"mesh\": \"" << mesh_spec_
-        << "\",\n  \"roi\": {\"water_fill\": {\"first\": " << first_ << ", \"last\": " << last_
-        << "}},\n  \"handles\": [";
+    dfm::json::JsonWriter json(dfm::json::JsonWriter::Layout::indented);
+    json.begin_object();
+    json.field("description", "saved by the Dualform viewer");
+    json.field("mesh", mesh_spec_);
+    json.key("roi").begin_object().key("water_fill").begin_object();
+    json.field("first", first_).field("last", last_);
+    json.end_object().end_object();
+    json.key("handles").begin_array();
     for (std::size_t g = 0; g < groups_.size(); ++g) {
-        out << (g == 0 ? "\n" : ",\n") << "    {\"vertices\": [";
-        for (std::size_t i = 0; i < groups_[g].size(); ++i) {
-            out << (i == 0 ? "" : ", ") << groups_[g][i];
-        }
-        out << "],\n     \"targets\": [";
-        for (std::size_t i = 0; i < groups_[g].size(); ++i) {
-            const std::uint32_t v = groups_[g][i];
+        json.begin_object();
+        json.key("vertices").numbers(groups_[g].data(), groups_[g].size());
+        json.key("targets").begin_array();
+        for (const std::uint32_t v : groups_[g]) {
             const Vec3 p =
                 apply(transforms_[g], {rest_[3 * v], rest_[3 * v + 1], rest_[3 * v + 2]});
-            out << (i == 0 ? "" : ", ") << "[" << p[0] << ", " << p[1] << ", " << p[2] << "]";
+            json.numbers(p.data(), 3);
         }
-        out << "]}";
+        json.end_array().end_object();
     }
-    out << "\n  ]\n}\n";
-    out.close();
-    if (!out) {
-        std::fprintf(stderr, "viewer: could not write %s\n", path.c_str());
-        return false;
-    }
-    return true;
+    json.end_array().end_object();
+    return write_json(path, json);
 }
 
 }  // namespace viewer

@@ -41,7 +41,7 @@ public:
 
     bool write_screenshot(const std::string& path);
     bool save_scenario(const std::string& path) const;
-    // The view as the camera JSON of SCENARIOS.md (for `dualform render`).
+    // The view as the camera JSON of docs/scenarios.md (for `dualform render`).
     bool save_camera(const std::string& path) const;
     bool save_mesh(const std::string& path);
     void set_mesh_output(const std::string& path) { mesh_output_ = path; }

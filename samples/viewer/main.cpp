@@ -9,8 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "../common/sample_environment.h"
 #include "dualform/dualform.h"
 #include "dualform/dualform_vulkan.h"
+#include "dualform/dualform_vulkan_glfw.h"
 #include "editor.hpp"
 #include "input_script.hpp"
 
@@ -207,11 +209,16 @@ int main(int argc, char** argv) {
     GLFWwindow* window = glfwCreateWindow(width, height, "Dualform", nullptr, nullptr);
     dfm_context* context = nullptr;
     dfm_vk_renderer* renderer = nullptr;
+    char models[4096];
+    dfm_context_desc context_desc = {};
+    context_desc.models_directory = sample_models_folder(models, sizeof models);
+    dfm_vk_renderer_desc renderer_desc = {};
+    renderer_desc.validation = sample_validation();
     int status = 1;
     if (window == nullptr) {
         std::fprintf(stderr, "viewer: GLFW could not open a window\n");
-    } else if (dfm_context_create(nullptr, &context) != DFM_OK ||
-               dfm_vk_renderer_create_window(nullptr, window, &renderer) != DFM_OK) {
+    } else if (dfm_context_create(&context_desc, &context) != DFM_OK ||
+               dfm_vk_renderer_create_window(&renderer_desc, window, &renderer) != DFM_OK) {
         std::fprintf(stderr, "viewer: %s\n", dfm_last_error_message());
     } else {
         viewer::Editor editor(context, renderer);

@@ -58,6 +58,7 @@ extern "C" DFM_API dfm_result dfm_context_create(const dfm_context_desc* desc, d
         state->log = d.log;
         state->log_user = d.log_user;
         state->worker_count = d.worker_count == 0 ? 1 : d.worker_count;
+        if (d.models_directory != nullptr) state->models_directory = d.models_directory;
         *out = host_new<dfm_context>(*state, Kind::context,
                                      std::shared_ptr<const ContextState>(state));
         return DFM_OK;

@@ -109,7 +109,13 @@ extern "C" DFM_API dfm_result dfm_mesh_load(dfm_context* context, const char* pa
     if (path == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path is NULL");
     return guarded(fn, [&] {
         std::filesystem::path file;
-        if (Status s = mesh::resolve_mesh_spec(path, std::filesystem::current_path(), file); !s) {
+        const std::string& models = context->state->models_directory;
+        if (Status s = mesh::resolve_mesh_spec(path, std::filesystem::current_path(), models, file);
+            !s) {
+            if (models.empty() && s.code() == Errc::not_found) {
+                return report(fn, DFM_ERROR_NOT_FOUND,
+                              s.message() + " (set dfm_context_desc.models_directory)");
+            }
             return report(fn, s);
         }
         mesh::Mesh m;

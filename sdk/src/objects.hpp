@@ -29,6 +29,7 @@ struct ContextState {
     dfm_log_fn log = nullptr;
     void* log_user = nullptr;
     std::uint32_t worker_count = 1;
+    std::string models_directory;  // empty: model:NAME is not found
 
     void* allocate(std::size_t size, std::size_t alignment) const {
         return host_allocate(allocator, size, alignment);

@@ -11,17 +11,6 @@ using namespace dfm::sdk;
 
 namespace dfm::sdk {
 
-pick::Camera to_camera(const dfm_camera& c) {
-    pick::Camera camera;
-    camera.eye = {c.eye[0], c.eye[1], c.eye[2]};
-    camera.target = {c.target[0], c.target[1], c.target[2]};
-    camera.up = {c.up[0], c.up[1], c.up[2]};
-    camera.fov_y_degrees = c.fov_y_degrees;
-    camera.width = c.width;
-    camera.height = c.height;
-    return camera;
-}
-
 Status with_scene(MeshState& state, const std::function<Status(const pick::EmbreeScene&)>& use) {
     std::lock_guard<std::mutex> lock(state.mutex);
     const deform::MeshModel& model = *state.model;

@@ -2,14 +2,11 @@
 
 #include <functional>
 
+#include "camera_convert.hpp"
 #include "core/status.hpp"
-#include "dualform/dualform.h"
 #include "objects.hpp"
-#include "pick/camera.hpp"
 
 namespace dfm::sdk {
-
-pick::Camera to_camera(const dfm_camera& camera);
 
 // Runs `use` with the mesh's Embree scene for its current rest pose, built or
 // refit first as needed, under the mesh's lock.

@@ -1,4 +1,4 @@
-// libFuzzer target for the edit scenario parser (SCENARIOS.md): any bytes
+// libFuzzer target for the edit scenario parser (docs/scenarios.md): any bytes
 // give a scenario or a located error, never a crash, hang or leak.
 
 #include <cstddef>

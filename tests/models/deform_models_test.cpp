@@ -10,6 +10,7 @@
 #include "deform/linear_solver.hpp"
 #include "deform/normal_system.hpp"
 #include "deform/quality.hpp"
+#include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "roi/ball_selection.hpp"
@@ -20,7 +21,9 @@ namespace {
 
 deform::MeshModel load_model(const std::string& name) {
     std::filesystem::path path;
-    REQUIRE(mesh::resolve_mesh_spec("model:" + name, {}, path).is_ok());
+    REQUIRE(mesh::resolve_mesh_spec("model:" + name, {},
+                                    dfm::tools::models_folder_from_environment(), path)
+                .is_ok());
     mesh::Mesh m;
     REQUIRE(mesh::load_mesh(path, m).is_ok());
     return deform::build_mesh_model(std::move(m));

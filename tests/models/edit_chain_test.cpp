@@ -35,10 +35,12 @@ TEST_CASE("edit chain: two cow edits, the second baked on the first, both show")
     CHECK(two.unconverged == 0);
     CHECK(moved(one) > 50);
     CHECK(moved(two) > moved(one) + 50);
-    // The leg, baked first, stays where its own edit left it.
+    // The leg, baked first, stays where its own edit left it: up to the warm
+    // step dfm_session_bake takes to finish the result (far below the
+    // stopping rule's 1e-5 of the cow's diagonal, about 1.2).
     for (std::size_t v = 0; v < one.rest.vertex_count(); ++v) {
         if (one.marks[v] == cli::mark_handle) {
-            CHECK(glm::distance(one.deformed[v], two.deformed[v]) < 1e-9);
+            CHECK(glm::distance(one.deformed[v], two.deformed[v]) < 1e-7);
         }
     }
     std::size_t marked = 0;

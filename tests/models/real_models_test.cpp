@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "mesh/normals.hpp"
@@ -16,7 +17,8 @@ namespace {
 
 Mesh load_model(const std::string& name) {
     std::filesystem::path path;
-    const dfm::Status r = resolve_mesh_spec("model:" + name, {}, path);
+    const dfm::Status r =
+        resolve_mesh_spec("model:" + name, {}, dfm::tools::models_folder_from_environment(), path);
     REQUIRE_MESSAGE(r.is_ok(), r.message());
     Mesh m;
     const dfm::Status s = load_mesh(path, m);
@@ -65,7 +67,8 @@ TEST_CASE("the cow reads back identically from every format and encoding") {
 
 TEST_CASE("every mesh in the model cache loads without error") {
     std::size_t count = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(models_directory())) {
+    for (const auto& entry :
+         std::filesystem::directory_iterator(dfm::tools::models_folder_from_environment())) {
         if (entry.path().extension() != ".off") continue;
         CAPTURE(entry.path().string());
         Mesh m;

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "deform/mesh_model.hpp"
+#include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "mesh/normals.hpp"
@@ -20,7 +21,8 @@ namespace {
 
 deform::MeshModel load_model(const std::string& name) {
     std::filesystem::path path;
-    const Status r = mesh::resolve_mesh_spec("model:" + name, {}, path);
+    const Status r = mesh::resolve_mesh_spec("model:" + name, {},
+                                             dfm::tools::models_folder_from_environment(), path);
     REQUIRE_MESSAGE(r.is_ok(), r.message());
     mesh::Mesh m;
     const Status s = mesh::load_mesh(path, m);

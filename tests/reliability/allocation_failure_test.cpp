@@ -1,5 +1,4 @@
-// Every allocation of the main C API calls fails in turn (DESIGN.md: "a
-// test that fails every allocation in turn"): each failure must come back
+// Every allocation of the main C API calls fails in turn: each failure must come back
 // as DFM_ERROR_OUT_OF_MEMORY, leak nothing, and leave the objects usable.
 
 #include <cmath>

@@ -7,6 +7,7 @@
 
 #include "deform/deform_session.hpp"
 #include "deform/mesh_model.hpp"
+#include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "render/render_helpers.hpp"
@@ -22,7 +23,8 @@ constexpr std::uint32_t leg_vertex = 771;
 
 mesh::Mesh load_cow() {
     std::filesystem::path path;
-    const Status resolved = mesh::resolve_mesh_spec("model:cow", ".", path);
+    const Status resolved = mesh::resolve_mesh_spec(
+        "model:cow", ".", dfm::tools::models_folder_from_environment(), path);
     REQUIRE_MESSAGE(resolved.is_ok(), resolved.message());
     mesh::Mesh cow;
     const Status loaded = mesh::load_mesh(path, cow);

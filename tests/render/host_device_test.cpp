@@ -200,6 +200,8 @@ TEST_CASE("render: a host's device records our draw into its own command buffer"
     const mesh::Mesh sphere = make_icosphere(3);
     pick::Camera view;
     view.eye = {0.5, 0.8, 4.0};
+    view.up = {0.0, 1.0, 0.0};
+    view.fov_y_degrees = 60.0;
     view.width = 96;
     view.height = 64;
     const dfm_camera camera = to_c_camera(view);
@@ -285,6 +287,11 @@ TEST_CASE("render: a host's device records our draw into its own command buffer"
         REQUIRE(dfm_vk_renderer_record_draw(renderer, cmd, &frame, extent.width, extent.height) ==
                 DFM_OK);
         vkCmdEndRendering(cmd);
+        // A new mesh while the recorded draw is not even submitted: the
+        // renderer waits on nothing of the host's and keeps the buffers that
+        // draw reads alive (the validation layer would see a destroyed one).
+        REQUIRE(dfm_vk_renderer_set_mesh(renderer, &positions, sphere.triangles.front().data(),
+                                         sphere.triangles.size()) == DFM_OK);
         barrier(cmd, host.color.image, VK_IMAGE_ASPECT_COLOR_BIT,
                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,

@@ -76,6 +76,7 @@ pick::Camera to_pick_camera(const dfm_camera& c) {
 HeadlessScene::HeadlessScene(const mesh::Mesh& mesh, std::uint32_t max_samples) {
     dfm_vk_renderer_desc desc = {};
     desc.max_samples = max_samples;
+    desc.validation = true;
     REQUIRE_MESSAGE(dfm_vk_renderer_create_headless(&desc, &renderer_) == DFM_OK,
                     dfm_last_error_message());
     const dfm_vec3_input positions = positions_of(mesh);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dualform/dualform_vulkan.h"
+#include "dualform/dualform_vulkan_glfw.h"
 #include "support/procedural_meshes.hpp"
 
 namespace {
@@ -39,7 +40,9 @@ int main() {
     positions.type = DFM_SCALAR_FLOAT64;
     dfm_vk_frame frame = {};
     int presented_count = 0;
-    if (dfm_vk_renderer_create_window(nullptr, window, &renderer) != DFM_OK) {
+    dfm_vk_renderer_desc desc = {};
+    desc.validation = true;
+    if (dfm_vk_renderer_create_window(&desc, window, &renderer) != DFM_OK) {
         status = fail("create_window");
     } else if (dfm_vk_renderer_set_mesh(renderer, &positions, sphere.triangles.front().data(),
                                         sphere.triangles.size()) != DFM_OK) {

@@ -3,9 +3,12 @@
 # against it twice, as an outside project would: with CMake's find_package
 # (shared and static) and with pkg-config; runs each on the cow.
 #
-# usage: install_consumer.sh BUILD_DIR SOURCE_DIR WORK_DIR
+# Checks the 0.x stable-API policy too: the SONAME carries the minor version
+# and the package accepts only a request of the same minor version.
+#
+# usage: install_consumer.sh BUILD_DIR SOURCE_DIR WORK_DIR SOVERSION
 set -euo pipefail
-build=$1 source=$2 work=$3
+build=$1 source=$2 work=$3 soversion=$4
 
 rm -rf "$work"
 mkdir -p "$work"
@@ -36,11 +39,35 @@ if [ -n "$bad" ]; then
 fi
 soname=$(objdump -p "$libdir/libdualform.so" | awk '/SONAME/ {print $2}')
 echo "SONAME $soname"
-[ "$soname" = "libdualform.so.0" ]
+[ "$soname" = "libdualform.so.$soversion" ]
 if [ -f "$build/sdk/src/vulkan/libdualform_vulkan.so" ]; then
   echo "== the renderer"
   [ -f "$work/prefix/include/dualform/dualform_vulkan.h" ]
-  [ -f "$libdir/libdualform_vulkan.so.0" ]
+  [ -f "$libdir/libdualform_vulkan.so.$soversion" ]
   grep -q "dualform::vulkan" "$(find "$work/prefix" -name dualformTargets.cmake)"
+fi
+echo "== package version compatibility"
+version_file=$(find "$work/prefix" -name dualformConfigVersion.cmake)
+cat >"$work/compatible.cmake" <<'EOF'
+string(REPLACE "." ";" parts "${PACKAGE_FIND_VERSION}")
+list(GET parts 0 PACKAGE_FIND_VERSION_MAJOR)
+list(GET parts 1 PACKAGE_FIND_VERSION_MINOR)
+set(PACKAGE_FIND_VERSION_PATCH 0)
+set(PACKAGE_FIND_VERSION_COUNT 2)
+include(${VERSION_FILE})
+if(NOT PACKAGE_VERSION_COMPATIBLE)
+  message(FATAL_ERROR "not compatible")
+endif()
+EOF
+compatible() {
+  cmake -DPACKAGE_FIND_VERSION="$1" -DVERSION_FILE="$version_file" -P "$work/compatible.cmake"
+}
+compatible "$soversion"
+major=${soversion%%.*}
+if [ "$major" = 0 ]; then
+  next_minor=$((${soversion#*.} + 1))
+  if compatible "0.$next_minor" 2>/dev/null; then
+    echo "a 0.x package must not accept a request for another minor version"; exit 1
+  fi
 fi
 echo "install_consumer: ok"

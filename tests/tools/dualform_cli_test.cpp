@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "pick/pick.hpp"
@@ -61,7 +62,9 @@ TEST_CASE("dualform info: the real models") {
 TEST_CASE("dualform info: the cow written as OBJ and PLY variants") {
     dfm::mesh::Mesh cow;
     std::filesystem::path path;
-    REQUIRE(dfm::mesh::resolve_mesh_spec("model:cow", {}, path).is_ok());
+    REQUIRE(dfm::mesh::resolve_mesh_spec("model:cow", {},
+                                         dfm::tools::models_folder_from_environment(), path)
+                .is_ok());
     REQUIRE(dfm::mesh::load_mesh(path, cow).is_ok());
     const auto dir = dfm::test::scratch_dir("cli_cow_variants");
     for (const auto& f : dfm::test::write_model_variants(cow, dir)) {
@@ -118,7 +121,8 @@ TEST_CASE("dualform: every malformed corpus file is a clean exit 2") {
         CAPTURE(entry.path().string());
         const auto r = dualform({"info", entry.path().string()});
         CHECK(r.exit_code == 2);
-        CHECK(r.err.rfind("error: " + entry.path().string(), 0) == 0);
+        // The C API's message: the call, then the file, line and element.
+        CHECK(r.err.rfind("error: dfm_mesh_load_with_report: " + entry.path().string(), 0) == 0);
     }
 }
 
@@ -324,7 +328,9 @@ TEST_CASE("dualform roi: writes the Water-Filling ROI and its diagnosis") {
 TEST_CASE("dualform roi: water_fill_clicks replays the water_fill ROI") {
     dfm::mesh::Mesh cow;
     std::filesystem::path path;
-    REQUIRE(dfm::mesh::resolve_mesh_spec("model:cow", {}, path).is_ok());
+    REQUIRE(dfm::mesh::resolve_mesh_spec("model:cow", {},
+                                         dfm::tools::models_folder_from_environment(), path)
+                .is_ok());
     REQUIRE(dfm::mesh::load_mesh(path, cow).is_ok());
     // A camera in front of the leg and below the hoof (771 is on the hoof's
     // sole), from where both vertices are seen: picking their projections
@@ -334,6 +340,7 @@ TEST_CASE("dualform roi: water_fill_clicks replays the water_fill ROI") {
     dfm::pick::Camera camera;
     camera.target = 0.5 * (cow.positions[771] + cow.positions[681]);
     camera.eye = camera.target + glm::dvec3(0.5, -0.3, 0.0);
+    camera.up = glm::dvec3(0.0, 1.0, 0.0);
     camera.fov_y_degrees = 40.0;
     camera.width = 640;
     camera.height = 480;

@@ -167,7 +167,7 @@ TEST_CASE("scenario: the example scenarios parse") {
     CHECK(horn.rotate->pivot == glm::dvec3(5.9665, 1.6318, 0.68));
 }
 
-TEST_CASE("scenario: the example of SCENARIOS.md") {
+TEST_CASE("scenario: the example of docs/scenarios.md") {
     const Scenario s = parse_ok(R"({
   "mesh": "model:camel",
   "roi": { "water_fill": { "first": 812, "last": 1033 } },
@@ -217,9 +217,10 @@ TEST_CASE("scenario: every ROI kind") {
     clicks += R"(, "first": [0, 0], "last": [640, 479.5]}})";
     s = parse_ok(with_roi(clicks));
     CHECK(s.roi.kind == RoiSpec::Kind::water_fill_clicks);
-    CHECK(s.roi.camera.eye == glm::dvec3(0.0, 0.0, 5.0));
-    CHECK(s.roi.camera.target == glm::dvec3(0.0));
-    CHECK(s.roi.camera.up == glm::dvec3(0.0, 1.0, 0.0));
+    const dfm_camera& c = s.roi.camera;
+    CHECK(glm::dvec3(c.eye[0], c.eye[1], c.eye[2]) == glm::dvec3(0.0, 0.0, 5.0));
+    CHECK(glm::dvec3(c.target[0], c.target[1], c.target[2]) == glm::dvec3(0.0));
+    CHECK(glm::dvec3(c.up[0], c.up[1], c.up[2]) == glm::dvec3(0.0, 1.0, 0.0));
     CHECK(s.roi.camera.fov_y_degrees == 45.0);
     CHECK(s.roi.camera.width == 640);
     CHECK(s.roi.camera.height == 480);

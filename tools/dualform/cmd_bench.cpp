@@ -19,8 +19,8 @@
 #include "dualform/edit_report.hpp"
 #include "dualform/edit_setup.hpp"
 #include "dualform/file_output.hpp"
-#include "dualform/json_writer.hpp"
 #include "dualform/scenario.hpp"
+#include "json/json_writer.hpp"
 #include "solver/thread_pool.hpp"
 
 // Benchmarks scenarios: set-up and the solve from rest, repeated, then a
@@ -41,7 +41,7 @@ double ms_since(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
-void write_spread(JsonWriter& json, std::string_view key, std::vector<double> values) {
+void write_spread(json::JsonWriter& json, std::string_view key, std::vector<double> values) {
     std::sort(values.begin(), values.end());
     const auto at = [&](double q) {
         return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5)];
@@ -92,7 +92,7 @@ struct IterationParts {
 };
 
 void write_medians(
-    JsonWriter& json, std::string_view key,
+    json::JsonWriter& json, std::string_view key,
     std::initializer_list<std::pair<std::string_view, const std::vector<double>*>> parts) {
     json.key(key).begin_object();
     for (const auto& [name, values] : parts) json.key(name).value(median(*values));
@@ -127,7 +127,7 @@ struct Overrides {
 };
 
 Status bench_scenario(const std::string& path, int repeat, const Overrides& overrides,
-                      JsonWriter& json) {
+                      json::JsonWriter& json) {
     Scenario scenario;
     if (Status s = load_scenario(path, scenario); !s) return s;
     deform::MeshModel model;
@@ -313,7 +313,7 @@ int run_bench(std::span<const std::string_view> args) {
         overrides.pool = pool.get();
     }
 
-    JsonWriter json;
+    json::JsonWriter json;
     json.begin_object();
     json.key("machine").begin_object();
     json.key("hardware_threads").value(std::uint64_t{std::thread::hardware_concurrency()});

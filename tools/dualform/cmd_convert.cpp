@@ -1,9 +1,10 @@
 #include <cstdio>
 #include <string>
 
+#include <vector>
+
+#include "dualform/c_api.hpp"
 #include "dualform/commands.hpp"
-#include "dualform/mesh_input.hpp"
-#include "mesh/write.hpp"
 
 namespace dfm::cli {
 
@@ -17,23 +18,23 @@ constexpr const char* usage =
 
 int run_convert(std::span<const std::string_view> args) {
     std::vector<std::string_view> paths;
-    mesh::WriteOptions options;
+    dfm_save_options options = {};
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string_view a = args[i];
         if (a == "--ply") {
             if (i + 1 >= args.size()) return bad_input("--ply needs an encoding");
             const std::string_view e = args[++i];
             if (e == "ascii") {
-                options.ply_encoding = mesh::PlyEncoding::ascii;
+                options.ply_encoding = DFM_PLY_ASCII;
             } else if (e == "binary_little_endian") {
-                options.ply_encoding = mesh::PlyEncoding::binary_little_endian;
+                options.ply_encoding = DFM_PLY_BINARY_LITTLE_ENDIAN;
             } else if (e == "binary_big_endian") {
-                options.ply_encoding = mesh::PlyEncoding::binary_big_endian;
+                options.ply_encoding = DFM_PLY_BINARY_BIG_ENDIAN;
             } else {
                 return bad_input("--ply: unknown encoding '" + std::string(e) + "'");
             }
         } else if (a == "--ply-float") {
-            options.ply_double = false;
+            options.ply_float = true;
         } else if (a == "--obj-normals") {
             options.obj_normals = true;
         } else if (a.starts_with("--")) {
@@ -43,10 +44,16 @@ int run_convert(std::span<const std::string_view> args) {
         }
     }
     if (paths.size() != 2) return bad_input(usage);
-    mesh::Mesh m;
-    mesh::LoadReport report;
-    if (Status s = load_mesh_input(paths[0], m, report); !s) return bad_input(s.message());
-    if (Status s = mesh::save_mesh(std::string(paths[1]), m, options); !s) {
+    ContextPtr context;
+    if (Status s = create_context(context); !s) return bad_input(s.message());
+    const std::string in(paths[0]);
+    const std::string out(paths[1]);
+    dfm_mesh* handle = nullptr;
+    if (Status s = api_status(dfm_mesh_load(context.get(), in.c_str(), &handle)); !s) {
+        return bad_input(s.message());
+    }
+    const MeshPtr mesh(handle);
+    if (Status s = api_status(dfm_mesh_save_with_options(mesh.get(), out.c_str(), &options)); !s) {
         return bad_input(s.message());
     }
     return exit_ok;

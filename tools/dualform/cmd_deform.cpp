@@ -1,16 +1,15 @@
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <vector>
 
-#include "deform/deform_session.hpp"
-#include "deform/quality.hpp"
+#include "dualform/api_edit.hpp"
 #include "dualform/commands.hpp"
 #include "dualform/edit_report.hpp"
-#include "dualform/edit_setup.hpp"
 #include "dualform/file_output.hpp"
-#include "dualform/json_writer.hpp"
 #include "dualform/scenario.hpp"
-#include "mesh/write.hpp"
+#include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
@@ -18,28 +17,43 @@ namespace {
 
 constexpr const char* usage =
     "usage: dualform deform SCENARIO --out MESH [--report JSON] [--roi-out TXT] [--strict]\n"
-    "       [--preconditioner cholesky|incomplete_cholesky|jacobi] [--hard-handles]\n"
-    "       [--method fitted_rotations|paper]";
+    "       [--hard-handles] [--method fitted_rotations|paper]";
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
+}
+
+// The solved shape as a mesh of its own (the triangles of the rest pose), so
+// that the mesh being edited keeps its rest pose.
+Status save_result(const ScenarioMesh& mesh, dfm_session* session, const std::string& path) {
+    std::vector<double> positions(3 * mesh.info.vertex_count);
+    dfm_vec3_output out = {};
+    out.data = positions.data();
+    out.count = mesh.info.vertex_count;
+    out.type = DFM_SCALAR_FLOAT64;
+    if (Status s = api_status(dfm_session_read_positions(session, &out, nullptr)); !s) return s;
+    std::vector<std::uint32_t> indices;
+    if (Status s = read_mesh_indices(mesh, indices); !s) return s;
+    dfm_mesh_desc desc = {};
+    desc.positions.data = positions.data();
+    desc.positions.count = mesh.info.vertex_count;
+    desc.positions.type = DFM_SCALAR_FLOAT64;
+    desc.indices = indices.data();
+    desc.triangle_count = mesh.info.triangle_count;
+    dfm_mesh* result = nullptr;
+    if (Status s = api_status(dfm_mesh_create(mesh.context.get(), &desc, &result)); !s) return s;
+    const MeshPtr owned(result);
+    return api_status(dfm_mesh_save(owned.get(), path.c_str()));
+}
 
 }  // namespace
-
-bool parse_preconditioner(std::string_view name, deform::Preconditioner& out) {
-    for (auto p : {deform::Preconditioner::cholesky, deform::Preconditioner::incomplete_cholesky,
-                   deform::Preconditioner::jacobi}) {
-        if (name == deform::preconditioner_name(p)) {
-            out = p;
-            return true;
-        }
-    }
-    return false;
-}
 
 int run_deform(std::span<const std::string_view> args) {
     std::string scenario_path, out_path, report_path, roi_path;
     bool strict = false;
     bool hard = false;
-    std::optional<deform::Preconditioner> preconditioner;
-    std::optional<deform::DeformMethod> method;
+    std::optional<dfm_method> method;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string_view a = args[i];
         auto value = [&](std::string& into) {
@@ -57,21 +71,12 @@ int run_deform(std::span<const std::string_view> args) {
             strict = true;
         } else if (a == "--hard-handles") {
             hard = true;
-        } else if (a == "--preconditioner") {
-            std::string name;
-            deform::Preconditioner p;
-            if (!value(name) || !parse_preconditioner(name, p)) {
-                return bad_input(
-                    "--preconditioner: expected cholesky, incomplete_cholesky or jacobi");
-            }
-            preconditioner = p;
         } else if (a == "--method") {
             std::string name;
             if (!value(name) || (name != "fitted_rotations" && name != "paper")) {
                 return bad_input("--method: expected fitted_rotations or paper");
             }
-            method = name == "paper" ? deform::DeformMethod::paper
-                                     : deform::DeformMethod::fitted_rotations;
+            method = name == "paper" ? DFM_METHOD_PAPER : DFM_METHOD_FITTED_ROTATIONS;
         } else if (a.starts_with("--") || !scenario_path.empty()) {
             return bad_input(std::string("unexpected argument '") + std::string(a) + "'\n" + usage);
         } else {
@@ -83,67 +88,71 @@ int run_deform(std::span<const std::string_view> args) {
     Scenario scenario;
     if (Status s = load_scenario(scenario_path, scenario); !s) return bad_input(s.message());
     const auto start = std::chrono::steady_clock::now();
-    deform::MeshModel model;
-    if (Status s = load_scenario_model(scenario, model); !s) return bad_input(s.message());
-    const auto roi_start = std::chrono::steady_clock::now();
-    EditSetup edit;
-    if (Status s = resolve_edit(scenario, model, edit); !s) {
+    ScenarioMesh mesh;
+    if (Status s = open_scenario_mesh(scenario, mesh); !s) return bad_input(s.message());
+    const double load_ms = ms_since(start);
+    const auto setup_start = std::chrono::steady_clock::now();
+    ScenarioEdit edit;
+    if (Status s = resolve_scenario_edit(scenario, mesh, edit); !s) {
         return bad_input(scenario_path + ": " + s.message());
     }
-    if (preconditioner) edit.settings.preconditioner = *preconditioner;
-    edit.settings.hard_handles = hard;
-    if (method) edit.settings.method = *method;
-    std::unique_ptr<deform::DeformSession> session;
-    if (Status s = deform::DeformSession::create(model, edit.roi, edit.handle_groups, edit.settings,
-                                                 session);
-        !s) {
+    edit.solver.hard_handles = hard;
+    if (method) edit.solver.method = *method;
+    SessionPtr session;
+    if (Status s = start_session(mesh, edit, session); !s) {
         return bad_input(scenario_path + ": " + s.message());
     }
-    const double setup_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - roi_start)
-            .count();
-    if (Status s = session->set_targets(edit.targets); !s) return bad_input(s.message());
-    deform::SolveReport solved;
-    const Status solve_status = session->solve(solved);
-    if (!solve_status) {
-        std::fprintf(stderr, "error: %s\n", solve_status.message().c_str());
+    const double setup_ms = ms_since(setup_start);
+
+    // Solved on this thread: the result is bit for bit the worker's.
+    dfm_frame_info solved = {};
+    if (Status s = api_status(dfm_session_solve(session.get(), nullptr)); !s) {
+        std::fprintf(stderr, "error: %s\n", s.message().c_str());
         return exit_failed;
     }
-    const deform::QualityReport quality = deform::measure_quality(
-        model, session->positions(), edit.in_roi, session->handle_vertices(), session->targets());
-
-    mesh::Mesh result;
-    result.positions.assign(session->positions().begin(), session->positions().end());
-    result.triangles = model.mesh.triangles;
-    if (Status s = mesh::save_mesh(out_path, result); !s) return bad_input(s.message());
-    if (!roi_path.empty()) {
-        if (Status s = write_index_lines(roi_path, edit.roi); !s) return bad_input(s.message());
+    dfm_quality quality = {};
+    if (Status s = api_status(dfm_session_measure_quality(session.get(), &quality, &solved)); !s) {
+        std::fprintf(stderr, "error: %s\n", s.message().c_str());
+        return exit_failed;
+    }
+    if (solved.status != DFM_OK) {
+        std::fprintf(stderr, "error: the solve broke down (%s)\n", dfm_result_name(solved.status));
+        return exit_failed;
+    }
+    dfm_solve_report solver = {};
+    if (Status s = api_status(dfm_session_get_solve_report(session.get(), &solver, nullptr)); !s) {
+        std::fprintf(stderr, "error: %s\n", s.message().c_str());
+        return exit_failed;
     }
 
-    JsonWriter json;
+    if (Status s = save_result(mesh, session.get(), out_path); !s) return bad_input(s.message());
+    if (!roi_path.empty()) {
+        if (Status s = write_index_lines(roi_path, edit.roi.vertices); !s) {
+            return bad_input(s.message());
+        }
+    }
+
+    json::JsonWriter json;
     json.begin_object();
-    json.key("mesh").value(scenario.mesh);
-    json.key("n_vertices").value(std::uint64_t{model.mesh.vertex_count()});
-    json.key("n_faces").value(std::uint64_t{model.mesh.face_count()});
-    json.key("n_roi").value(std::uint64_t{edit.roi.size()});
-    json.key("n_handles").value(std::uint64_t{session->handle_vertices().size()});
-    json.key("n_handle_groups").value(std::uint64_t{edit.handle_groups.size()});
-    json.key("n_unknowns").value(std::uint64_t{session->setup_report().unknowns});
-    json.key("iterations").value(std::uint64_t(solved.iterations));
-    json.key("converged").value(solved.converged);
-    json.key("last_update").value(solved.last_update);
-    json.key("setup_ms").value(setup_ms);
-    json.key("solve_ms").value(solved.solve_ms);
-    json.key("ms_per_iteration")
-        .value(solved.iterations > 0 ? solved.solve_ms / solved.iterations : 0.0);
-    json.key("krylov_iterations").value(std::uint64_t{solved.krylov_iterations});
-    json.key("linear_residual").value(solved.linear_residual);
-    json.key("linear_converged").value(solved.linear_converged);
-    json.key("preconditioner").value(deform::preconditioner_name(edit.settings.preconditioner));
-    json.key("method").value(deform::method_name(edit.settings.method));
-    json.key("energy").value(solved.energy);
-    json.key("rejected_steps").value(std::uint64_t{solved.rejected_steps});
-    json.key("load_ms").value(std::chrono::duration<double, std::milli>(roi_start - start).count());
+    json.field("mesh", scenario.mesh);
+    json.field("n_vertices", mesh.info.vertex_count);
+    json.field("n_faces", mesh.info.triangle_count);
+    json.field("n_roi", edit.roi.vertices.size());
+    json.field("n_handles", edit.handle_count());
+    json.field("n_handle_groups", edit.groups.size());
+    json.field("n_unknowns", solver.unknowns);
+    json.field("method", edit.solver.method == DFM_METHOD_PAPER ? "paper" : "fitted_rotations");
+    json.field("iterations", solved.iterations);
+    json.field("converged", solved.converged);
+    json.field("last_update", solved.last_update);
+    json.field("setup_ms", setup_ms);
+    json.field("solve_ms", solved.solve_ms);
+    json.field("ms_per_iteration",
+               solved.iterations > 0 ? solved.solve_ms / solved.iterations : 0.0);
+    json.field("krylov_iterations", solver.krylov_iterations);
+    json.field("linear_residual", solver.linear_residual);
+    json.field("linear_converged", solver.linear_converged);
+    json.field("load_ms", load_ms);
     write_quality(json, quality);
     json.end_object();
     std::printf("%s\n", json.str().c_str());
@@ -152,7 +161,7 @@ int run_deform(std::span<const std::string_view> args) {
     }
     if (strict && !solved.converged) {
         std::fprintf(stderr,
-                     "error: did not converge in %d iterations (last update %g of the diagonal)\n",
+                     "error: did not converge in %u iterations (last update %g of the diagonal)\n",
                      solved.iterations, solved.last_update);
         return exit_failed;
     }

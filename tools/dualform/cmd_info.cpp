@@ -1,47 +1,53 @@
 #include <cstdio>
 #include <string>
 
+#include "dualform/c_api.hpp"
 #include "dualform/commands.hpp"
-#include "dualform/json_writer.hpp"
-#include "dualform/mesh_input.hpp"
-#include "mesh/summary.hpp"
+#include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
-namespace {
-
-void write_vec3(JsonWriter& json, std::string_view key, const glm::dvec3& v) {
-    json.key(key).begin_array().value(v.x).value(v.y).value(v.z).end_array();
-}
-
-}  // namespace
-
 int run_info(std::span<const std::string_view> args) {
     if (args.size() != 1) return bad_input("usage: dualform info PATH|model:NAME");
-    mesh::Mesh m;
-    mesh::LoadReport report;
-    if (Status s = load_mesh_input(args[0], m, report); !s) return bad_input(s.message());
-    const mesh::MeshSummary s = mesh::summarize(m);
+    const std::string spec(args[0]);
+    ContextPtr context;
+    if (Status s = create_context(context); !s) return bad_input(s.message());
+    dfm_load_report loaded = {};
+    dfm_mesh* handle = nullptr;
+    if (Status s =
+            api_status(dfm_mesh_load_with_report(context.get(), spec.c_str(), &loaded, &handle));
+        !s) {
+        return bad_input(s.message());
+    }
+    const MeshPtr mesh(handle);
+    dfm_mesh_info info = {};
+    dfm_mesh_summary summary = {};
+    if (Status s = api_status(dfm_mesh_get_info(mesh.get(), &info)); !s) {
+        return bad_input(s.message());
+    }
+    if (Status s = api_status(dfm_mesh_get_summary(mesh.get(), &summary)); !s) {
+        return bad_input(s.message());
+    }
 
-    JsonWriter json;
+    json::JsonWriter json;
     json.begin_object();
-    json.key("mesh").value(args[0]);
-    json.key("vertices").value(std::uint64_t{s.vertices});
-    json.key("faces").value(std::uint64_t{s.faces});
-    json.key("edges").value(std::uint64_t{s.edges});
-    json.key("boundary_edges").value(std::uint64_t{s.boundary_edges});
-    json.key("non_manifold_edges").value(std::uint64_t{s.non_manifold_edges});
-    json.key("inconsistent_edges").value(std::uint64_t{s.inconsistent_edges});
-    json.key("components").value(std::uint64_t{s.components});
-    json.key("isolated_vertices").value(std::uint64_t{s.isolated_vertices});
-    json.key("closed").value(s.closed);
-    json.key("degenerate_faces").value(std::uint64_t{s.degenerate_faces});
-    json.key("dropped_faces").value(std::uint64_t{report.dropped_faces});
-    json.key("polygons").value(std::uint64_t{report.polygons});
-    json.key("triangulated_polygons").value(std::uint64_t{report.triangulated_polygons});
-    write_vec3(json, "bbox_min", s.bounds.min);
-    write_vec3(json, "bbox_max", s.bounds.max);
-    json.key("bbox_diagonal").value(s.diagonal);
+    json.field("mesh", spec);
+    json.field("vertices", info.vertex_count);
+    json.field("faces", info.triangle_count);
+    json.field("edges", summary.edges);
+    json.field("boundary_edges", summary.boundary_edges);
+    json.field("non_manifold_edges", summary.non_manifold_edges);
+    json.field("inconsistent_edges", summary.inconsistent_edges);
+    json.field("components", summary.components);
+    json.field("isolated_vertices", summary.isolated_vertices);
+    json.field("closed", summary.closed);
+    json.field("degenerate_faces", summary.degenerate_triangles);
+    json.field("dropped_faces", loaded.dropped_faces);
+    json.field("polygons", loaded.polygons);
+    json.field("triangulated_polygons", loaded.triangulated_polygons);
+    json.key("bbox_min").numbers(info.bounds_min, 3);
+    json.key("bbox_max").numbers(info.bounds_max, 3);
+    json.field("bbox_diagonal", info.diagonal);
     json.end_object();
     std::printf("%s\n", json.str().c_str());
     return exit_ok;

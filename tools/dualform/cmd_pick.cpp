@@ -6,11 +6,12 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
+#include "dualform/c_api.hpp"
 #include "dualform/commands.hpp"
-#include "dualform/json_writer.hpp"
-#include "dualform/mesh_input.hpp"
-#include "dualform/pick_camera.hpp"
-#include "pick/pick.hpp"
+#include "dualform/scenario.hpp"
+#include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
@@ -32,17 +33,15 @@ bool parse_pixel(std::string_view text, glm::dvec2& out) {
            parse_number(text.substr(comma + 1), out.y);
 }
 
-std::string hit_json(const std::optional<pick::Hit>& hit) {
-    JsonWriter j;
-    j.begin_object().key("hit").value(hit.has_value());
-    if (hit) {
-        j.key("face").value(std::uint64_t{hit->face});
-        j.key("vertex").value(std::uint64_t{hit->vertex});
-        j.key("point").begin_array();
-        for (int k = 0; k < 3; ++k) j.value(hit->point[k]);
-        j.end_array();
-        j.key("distance").value(hit->distance);
-        j.key("barycentric").begin_array().value(hit->u).value(hit->v).value(hit->w).end_array();
+std::string hit_json(const dfm_hit& hit) {
+    json::JsonWriter j;
+    j.begin_object().field("hit", hit.hit);
+    if (hit.hit) {
+        j.field("face", hit.face);
+        j.field("vertex", hit.vertex);
+        j.key("point").numbers(hit.point, 3);
+        j.field("distance", hit.distance);
+        j.key("barycentric").numbers(hit.barycentric, 3);
     }
     j.end_object();
     return j.str();
@@ -51,33 +50,26 @@ std::string hit_json(const std::optional<pick::Hit>& hit) {
 // Times `rays` picks spread over a 3×3 pixel neighbourhood of `pixel`, so
 // the rays are realistic clicks rather than one cached ray; prints the
 // median and 90th percentile per ray in microseconds.
-int bench(const pick::EmbreeScene& scene, const pick::Camera& camera, glm::dvec2 pixel,
-          std::size_t rays) {
+int bench(dfm_mesh* mesh, const dfm_camera& camera, glm::dvec2 pixel, std::size_t rays) {
     std::vector<double> us(rays);
-    std::optional<pick::Hit> hit;
     std::size_t hits = 0;
     for (std::size_t i = 0; i < rays; ++i) {
         const glm::dvec2 p = pixel + glm::dvec2(static_cast<double>(i % 3) - 1.0,
                                                 static_cast<double>(i / 3 % 3) - 1.0);
+        dfm_hit hit = {};
         const auto start = std::chrono::steady_clock::now();
-        const Status s = pick::pick_pixel(scene, camera, p, hit);
+        const dfm_result r = dfm_mesh_pick(mesh, &camera, p.x, p.y, &hit);
         us[i] = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
                     .count();
-        if (!s) return bad_input(s.message());
-        hits += hit.has_value();
+        if (Status s = api_status(r); !s) return bad_input(s.message());
+        hits += hit.hit;
     }
     std::sort(us.begin(), us.end());
-    JsonWriter j;
-    j.begin_object()
-        .key("rays")
-        .value(std::uint64_t{rays})
-        .key("hits")
-        .value(std::uint64_t{hits})
-        .key("median_us")
-        .value(us[rays / 2])
-        .key("p90_us")
-        .value(us[rays * 9 / 10])
-        .end_object();
+    json::JsonWriter j;
+    j.begin_object();
+    j.field("rays", rays).field("hits", hits);
+    j.field("median_us", us[rays / 2]).field("p90_us", us[rays * 9 / 10]);
+    j.end_object();
     std::printf("%s\n", j.str().c_str());
     return exit_ok;
 }
@@ -114,25 +106,24 @@ int run_pick(std::span<const std::string_view> args) {
     }
     if (mesh_spec.empty() || camera_text.empty() || !pixel) return bad_input(usage);
 
-    ScenarioCamera scenario_camera;
-    if (Status s = read_camera_argument(camera_text, scenario_camera); !s) {
-        return bad_input(s.message());
-    }
-    const pick::Camera camera = to_pick_camera(scenario_camera);
+    dfm_camera camera{};
+    if (Status s = read_camera_argument(camera_text, camera); !s) return bad_input(s.message());
     if (pixel->x < 0.0 || pixel->y < 0.0 || pixel->x > camera.width || pixel->y > camera.height) {
         return bad_input("--pixel: the pixel lies outside the " + std::to_string(camera.width) +
                          "x" + std::to_string(camera.height) + " image");
     }
-    mesh::Mesh mesh;
-    mesh::LoadReport report;
-    if (Status s = load_mesh_input(mesh_spec, mesh, report); !s) return bad_input(s.message());
-    pick::EmbreeScene scene;
-    if (Status s = pick::EmbreeScene::create(mesh.positions, mesh.triangles, scene); !s) {
-        return bad_input(mesh_spec + ": " + s.message());
+    ContextPtr context;
+    if (Status s = create_context(context); !s) return bad_input(s.message());
+    dfm_mesh* loaded = nullptr;
+    if (Status s = api_status(dfm_mesh_load(context.get(), mesh_spec.c_str(), &loaded)); !s) {
+        return bad_input(s.message());
     }
-    if (bench_rays > 0) return bench(scene, camera, *pixel, bench_rays);
-    std::optional<pick::Hit> hit;
-    if (Status s = pick::pick_pixel(scene, camera, *pixel, hit); !s) return bad_input(s.message());
+    const MeshPtr mesh(loaded);
+    if (bench_rays > 0) return bench(mesh.get(), camera, *pixel, bench_rays);
+    dfm_hit hit = {};
+    if (Status s = api_status(dfm_mesh_pick(mesh.get(), &camera, pixel->x, pixel->y, &hit)); !s) {
+        return bad_input(s.message());
+    }
     std::printf("%s\n", hit_json(hit).c_str());
     return exit_ok;
 }

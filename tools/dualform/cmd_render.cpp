@@ -6,13 +6,14 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "dualform/commands.hpp"
-#include "dualform/json_writer.hpp"
-#include "dualform/pick_camera.hpp"
+#include "dualform/dualform_vulkan.h"
 #include "dualform/render_scene.hpp"
-#include "render/png_writer.hpp"
-#include "render/renderer.hpp"
-#include "render/view_transform.hpp"
+#include "dualform/scenario.hpp"
+#include "environment/host_environment.hpp"
+#include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
@@ -80,14 +81,26 @@ int parse(std::span<const std::string_view> args, RenderOptions& o) {
     return 0;
 }
 
-int render_failed(const render::RenderStatus& s) {
-    if (s.fault() == render::Fault::invalid_argument) return bad_input(s.message());
-    std::fprintf(stderr, "error: render: %s\n", s.message().c_str());
+// A renderer call's failure: bad input (exit 2) for a refused argument,
+// failed work (exit 1) for the device.
+int render_failed(dfm_result result) {
+    const std::string message = dfm_last_error_message();
+    if (result == DFM_ERROR_INVALID_ARGUMENT) return bad_input(message);
+    std::fprintf(stderr, "error: render: %s\n", message.c_str());
     return exit_failed;
 }
 
-render::StridedPositions strided(const std::vector<glm::dvec3>& p) {
-    return render::StridedPositions{p.data(), p.size(), sizeof(glm::dvec3), true};
+struct RendererDeleter {
+    void operator()(dfm_vk_renderer* r) const { dfm_vk_renderer_destroy(r); }
+};
+using RendererPtr = std::unique_ptr<dfm_vk_renderer, RendererDeleter>;
+
+dfm_vec3_input doubles(const std::vector<glm::dvec3>& p) {
+    dfm_vec3_input in = {};
+    in.data = p.data();
+    in.count = p.size();
+    in.type = DFM_SCALAR_FLOAT64;
+    return in;
 }
 
 double median(std::vector<double> v) {
@@ -95,43 +108,55 @@ double median(std::vector<double> v) {
     return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
+}
+
 // Frame times with the position upload each frame (the positions alternate
 // between rest and deformed, so normals are recomputed and every vertex
 // streams): pipelined with frames in flight, then each frame waited for and
 // read back; and the CPU side of the update alone (copy, normals).
-int run_bench(render::Renderer& renderer, const RenderScene& scene,
-              const render::ViewSettings& view, int frames) {
+int run_bench(dfm_vk_renderer* renderer, const RenderScene& scene, const dfm_vk_frame& frame,
+              int frames) {
     const std::vector<glm::dvec3>& moved =
         scene.deformed.empty() ? scene.rest.positions : scene.deformed;
-    std::vector<std::uint8_t> rgba(std::size_t{view.camera.width} * view.camera.height * 4);
+    const dfm_vec3_input poses[2] = {doubles(scene.rest.positions), doubles(moved)};
+    std::vector<std::uint8_t> rgba(std::size_t{frame.camera.width} * frame.camera.height * 4);
     std::vector<double> pipelined, read_back, update;
     for (int pass = 0; pass < 2; ++pass) {
         std::vector<double>& times = pass == 0 ? pipelined : read_back;
-        const std::span<std::uint8_t> out = pass == 0 ? std::span<std::uint8_t>() : rgba;
+        std::uint8_t* out = pass == 0 ? nullptr : rgba.data();
+        const std::size_t out_size = pass == 0 ? 0 : rgba.size();
         for (int f = 0; f < frames; ++f) {
             const auto start = std::chrono::steady_clock::now();
-            const std::vector<glm::dvec3>& p = (f % 2) ? moved : scene.rest.positions;
-            if (auto s = renderer.set_positions(strided(p)); !s) return render_failed(s);
-            update.push_back(
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                    .count());
-            if (auto s = renderer.render_offscreen(view, out); !s) return render_failed(s);
-            times.push_back(
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                    .count());
+            if (dfm_result r = dfm_vk_renderer_update_positions(renderer, &poses[f % 2]);
+                r != DFM_OK) {
+                return render_failed(r);
+            }
+            update.push_back(ms_since(start));
+            if (dfm_result r = dfm_vk_renderer_render_offscreen(renderer, &frame, out, out_size);
+                r != DFM_OK) {
+                return render_failed(r);
+            }
+            times.push_back(ms_since(start));
         }
     }
-    JsonWriter json;
+    std::uint32_t samples = 0;
+    if (dfm_result r = dfm_vk_renderer_sample_count(renderer, &samples); r != DFM_OK) {
+        return render_failed(r);
+    }
+    json::JsonWriter json;
     json.begin_object();
-    json.key("vertices").value(std::uint64_t{scene.rest.vertex_count()});
-    json.key("faces").value(std::uint64_t{scene.rest.face_count()});
-    json.key("width").value(std::uint64_t{view.camera.width});
-    json.key("height").value(std::uint64_t{view.camera.height});
-    json.key("samples").value(std::uint64_t(renderer.samples()));
-    json.key("frames").value(std::uint64_t(frames));
-    json.key("median_frame_ms").value(median(pipelined));
-    json.key("median_frame_readback_ms").value(median(read_back));
-    json.key("median_position_update_ms").value(median(update));
+    json.field("vertices", scene.rest.vertex_count());
+    json.field("faces", scene.rest.indices.size() / 3);
+    json.field("width", frame.camera.width);
+    json.field("height", frame.camera.height);
+    json.field("samples", samples);
+    json.field("frames", frames);
+    json.field("median_frame_ms", median(pipelined));
+    json.field("median_frame_readback_ms", median(read_back));
+    json.field("median_position_update_ms", median(update));
     json.end_object();
     std::printf("%s\n", json.str().c_str());
     return exit_ok;
@@ -146,6 +171,15 @@ void place(std::vector<std::uint8_t>& out, const std::vector<std::uint8_t>& pict
     }
 }
 
+int draw(dfm_vk_renderer* renderer, const dfm_vk_frame& frame, std::vector<std::uint8_t>& rgba) {
+    rgba.assign(std::size_t{frame.camera.width} * frame.camera.height * 4, 0);
+    if (dfm_result r = dfm_vk_renderer_render_offscreen(renderer, &frame, rgba.data(), rgba.size());
+        r != DFM_OK) {
+        return render_failed(r);
+    }
+    return exit_ok;
+}
+
 }  // namespace
 
 int run_render(std::span<const std::string_view> args) {
@@ -155,75 +189,87 @@ int run_render(std::span<const std::string_view> args) {
     RenderScene scene;
     if (Status s = load_render_scene(o.inputs, scene); !s) return bad_input(s.message());
 
-    render::ViewSettings view;
-    view.wireframe = o.wireframe;
-    view.flat = o.flat;
+    dfm_vk_frame frame = {};
+    frame.flags = (o.wireframe ? DFM_VK_FLAG_WIREFRAME : 0u) | (o.flat ? DFM_VK_FLAG_FLAT : 0u);
     if (!o.camera.empty()) {
-        ScenarioCamera camera;
-        if (Status s = read_camera_argument(o.camera, camera); !s) return bad_input(s.message());
-        view.camera = to_pick_camera(camera);
-        if (o.width) view.camera.width = o.width;
-        if (o.height) view.camera.height = o.height;
-        if (Status s = pick::check_camera(view.camera); !s) return bad_input(s.message());
+        if (Status s = read_camera_argument(o.camera, frame.camera); !s) {
+            return bad_input(s.message());
+        }
+        if (o.width) frame.camera.width = o.width;
+        if (o.height) frame.camera.height = o.height;
     } else {
         std::vector<glm::dvec3> everything = scene.rest.positions;
         everything.insert(everything.end(), scene.deformed.begin(), scene.deformed.end());
-        view.camera =
-            render::framing_camera(everything, o.width ? o.width : 800, o.height ? o.height : 600);
+        const dfm_vec3_input all = doubles(everything);
+        if (dfm_result r = dfm_vk_framing_camera(&all, o.width ? o.width : 800,
+                                                 o.height ? o.height : 600, &frame.camera);
+            r != DFM_OK) {
+            return render_failed(r);
+        }
     }
 
-    render::OwnDeviceOptions options;
-    options.validation = render::validation_requested();
-    options.max_samples = static_cast<VkSampleCountFlagBits>(o.samples);
-    std::unique_ptr<render::Renderer> renderer;
-    if (auto s = render::Renderer::create_headless(options, renderer); !s) {
-        return render_failed(s);
+    dfm_vk_renderer_desc desc = {};
+    desc.max_samples = o.samples;
+    desc.validation = tools::validation_from_environment();
+    dfm_vk_renderer* created = nullptr;
+    if (dfm_result r = dfm_vk_renderer_create_headless(&desc, &created); r != DFM_OK) {
+        return render_failed(r);
     }
-    std::vector<std::uint32_t> indices;
-    for (const mesh::Triangle& t : scene.rest.triangles)
-        indices.insert(indices.end(), t.begin(), t.end());
-    if (auto s = renderer->set_mesh(strided(scene.rest.positions), indices); !s) {
-        return render_failed(s);
+    const RendererPtr renderer(created);
+    const dfm_vec3_input rest = doubles(scene.rest.positions);
+    if (dfm_result r = dfm_vk_renderer_set_mesh(renderer.get(), &rest, scene.rest.indices.data(),
+                                                scene.rest.indices.size() / 3);
+        r != DFM_OK) {
+        return render_failed(r);
     }
     if (!scene.marks.empty()) {
-        if (auto s = renderer->set_marks(scene.marks); !s) return render_failed(s);
+        if (dfm_result r =
+                dfm_vk_renderer_set_marks(renderer.get(), scene.marks.data(), scene.marks.size());
+            r != DFM_OK) {
+            return render_failed(r);
+        }
     }
 
     int code = exit_ok;
-    if (o.bench_frames > 0) {
-        code = run_bench(*renderer, scene, view, o.bench_frames);
-    }
+    if (o.bench_frames > 0) code = run_bench(renderer.get(), scene, frame, o.bench_frames);
     if (code == exit_ok && !o.png.empty()) {
-        const std::uint32_t w = view.camera.width;
-        const std::uint32_t h = view.camera.height;
-        std::vector<std::uint8_t> picture(std::size_t{w} * h * 4);
+        const std::uint32_t w = frame.camera.width;
+        const std::uint32_t h = frame.camera.height;
+        std::vector<std::uint8_t> picture;
         std::vector<std::uint8_t> rest_picture;
         if (o.before_after) {
-            if (auto s = renderer->set_positions(strided(scene.rest.positions)); !s) {
-                return render_failed(s);
+            if (dfm_result r = dfm_vk_renderer_update_positions(renderer.get(), &rest);
+                r != DFM_OK) {
+                return render_failed(r);
             }
-            rest_picture.resize(picture.size());
-            if (auto s = renderer->render_offscreen(view, rest_picture); !s) {
-                return render_failed(s);
-            }
+            if (int c = draw(renderer.get(), frame, rest_picture); c != exit_ok) return c;
         }
         if (!scene.deformed.empty()) {
-            if (auto s = renderer->set_positions(strided(scene.deformed)); !s) {
-                return render_failed(s);
+            const dfm_vec3_input deformed = doubles(scene.deformed);
+            if (dfm_result r = dfm_vk_renderer_update_positions(renderer.get(), &deformed);
+                r != DFM_OK) {
+                return render_failed(r);
             }
         }
-        if (auto s = renderer->render_offscreen(view, picture); !s) return render_failed(s);
+        if (int c = draw(renderer.get(), frame, picture); c != exit_ok) return c;
         if (o.before_after) {
             std::vector<std::uint8_t> both(picture.size() * 2);
             place(both, rest_picture, w, h, 0);
             place(both, picture, w, h, w);
             picture = std::move(both);
         }
-        if (auto s = render::write_png(o.png, picture, o.before_after ? 2 * w : w, h); !s) {
-            return render_failed(s);
+        if (dfm_result r = dfm_vk_write_png(o.png.c_str(), picture.data(), picture.size(),
+                                            o.before_after ? 2 * w : w, h);
+            r != DFM_OK) {
+            return render_failed(r);
         }
     }
-    if (const std::uint64_t messages = renderer->validation_messages(); messages > 0) {
+    std::uint64_t messages = 0;
+    if (dfm_result r = dfm_vk_renderer_validation_message_count(renderer.get(), &messages);
+        r != DFM_OK) {
+        return render_failed(r);
+    }
+    if (messages > 0) {
         std::fprintf(stderr, "error: render: %llu Vulkan validation messages (see above)\n",
                      static_cast<unsigned long long>(messages));
         return exit_failed;

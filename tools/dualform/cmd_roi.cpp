@@ -1,13 +1,11 @@
 #include <cstdio>
-#include <fstream>
-#include <optional>
 #include <string>
-#include <vector>
 
+#include "dualform/api_edit.hpp"
 #include "dualform/commands.hpp"
-#include "dualform/edit_setup.hpp"
-#include "dualform/json_writer.hpp"
+#include "dualform/file_output.hpp"
 #include "dualform/scenario.hpp"
+#include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
@@ -34,29 +32,20 @@ int run_roi(std::span<const std::string_view> args) {
 
     Scenario scenario;
     if (Status s = load_scenario(scenario_path, scenario); !s) return bad_input(s.message());
-    deform::MeshModel model;
-    if (Status s = load_scenario_model(scenario, model); !s) return bad_input(s.message());
-    std::vector<std::uint32_t> roi;
-    std::optional<roi::WaterFillDiagnosis> diagnosis;
-    if (Status s = resolve_roi(scenario.roi, model, roi, diagnosis); !s) {
+    ScenarioMesh mesh;
+    if (Status s = open_scenario_mesh(scenario, mesh); !s) return bad_input(s.message());
+    ScenarioRoi roi;
+    if (Status s = select_roi(scenario.roi, mesh, roi); !s) {
         return bad_input(scenario_path + ": " + s.message());
     }
-    std::string text;
-    for (std::uint32_t v : roi) {
-        text += std::to_string(v);
-        text += '\n';
-    }
-    std::ofstream out(out_path, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) return bad_input(out_path + ": cannot write");
+    if (Status s = write_index_lines(out_path, roi.vertices); !s) return bad_input(s.message());
 
-    JsonWriter j;
-    j.begin_object().key("n_roi").value(std::uint64_t{roi.size()});
-    if (diagnosis) {
-        j.key("loops").value(std::uint64_t{diagnosis->loops});
-        j.key("bounded_by_last_loop").value(diagnosis->bounded_by_last_loop);
-        j.key("suspect").value(diagnosis->suspect);
+    json::JsonWriter j;
+    j.begin_object().field("n_roi", roi.vertices.size());
+    if (roi.diagnosis) {
+        j.field("loops", roi.diagnosis->loops);
+        j.field("bounded_by_last_loop", roi.diagnosis->bounded_by_last_loop);
+        j.field("suspect", roi.diagnosis->suspect);
     }
     j.end_object();
     std::printf("%s\n", j.str().c_str());

@@ -3,8 +3,6 @@
 #include <span>
 #include <string_view>
 
-#include "deform/linear_solver.hpp"
-
 // Each subcommand takes the arguments after its name and returns the exit
 // code: 0 success, 2 bad input (with "error: ..." on stderr), 1 failed work.
 namespace dfm::cli {
@@ -21,9 +19,6 @@ int run_pick(std::span<const std::string_view> args);
 int run_roi(std::span<const std::string_view> args);
 // Built with the renderer only; otherwise main says the renderer is missing.
 int run_render(std::span<const std::string_view> args);
-
-// Reads a preconditioner's name as preconditioner_name() writes it.
-bool parse_preconditioner(std::string_view name, deform::Preconditioner& out);
 
 // Prints "error: <message>" on stderr and returns exit_bad_input.
 int bad_input(std::string_view message);

@@ -1,10 +1,6 @@
 #include "dualform/edit_chain.hpp"
 
-#include <memory>
-
-#include "deform/deform_session.hpp"
-#include "deform/mesh_model.hpp"
-#include "dualform/edit_setup.hpp"
+#include "dualform/api_edit.hpp"
 #include "dualform/scenario.hpp"
 
 namespace dfm::cli {
@@ -25,12 +21,46 @@ Status in_chain(const Status& s, const std::string& path, std::size_t index, std
     return Status(s.code(), where);
 }
 
+Status read_session_positions(dfm_session* session, std::size_t count,
+                              std::vector<glm::dvec3>& out) {
+    out.resize(count);
+    dfm_vec3_output positions = {};
+    positions.data = out.data();
+    positions.count = count;
+    positions.type = DFM_SCALAR_FLOAT64;
+    return api_status(dfm_session_read_positions(session, &positions, nullptr));
+}
+
+Status solve_edit(const Scenario& scenario, ScenarioMesh& mesh, bool last, EditChain& out) {
+    ScenarioEdit edit;
+    if (Status s = resolve_scenario_edit(scenario, mesh, edit); !s) return s;
+    SessionPtr session;
+    if (Status s = start_session(mesh, edit, session); !s) return s;
+    if (Status s = api_status(dfm_session_solve(session.get(), nullptr)); !s) return s;
+    dfm_frame_info solved = {};
+    if (Status s = api_status(dfm_session_poll(session.get(), 0, &solved, nullptr)); !s) return s;
+    if (solved.status != DFM_OK) {
+        return Status(Errc::numerical,
+                      std::string("the solve broke down (") + dfm_result_name(solved.status) + ")");
+    }
+    if (!solved.converged) ++out.unconverged;
+    for (std::uint32_t v : edit.roi.vertices) out.marks[v] = mark_roi;
+    for (std::size_t g = 0; g < edit.groups.size(); ++g) {
+        const HandleSpec& spec = scenario.handles[g];
+        const bool anchor = !spec.translate && !spec.rotate && spec.targets.empty();
+        for (std::uint32_t v : edit.groups[g]) out.marks[v] = anchor ? mark_anchor : mark_handle;
+    }
+    if (last) return read_session_positions(session.get(), mesh.info.vertex_count, out.deformed);
+    if (Status s = api_status(dfm_session_bake(session.get())); !s) return s;
+    return refresh_scenario_mesh(mesh);
+}
+
 }  // namespace
 
 Status run_edit_chain(std::span<const std::string> scenario_paths, EditChain& out) {
     out = EditChain{};
     if (scenario_paths.empty()) return Status(Errc::invalid_argument, "no scenario given");
-    deform::MeshModel model;
+    ScenarioMesh mesh;
     std::string mesh_spec;
     const std::size_t count = scenario_paths.size();
     for (std::size_t i = 0; i < count; ++i) {
@@ -38,10 +68,11 @@ Status run_edit_chain(std::span<const std::string> scenario_paths, EditChain& ou
         Scenario scenario;
         if (Status s = load_scenario(path, scenario); !s) return s;
         if (i == 0) {
-            if (Status s = load_scenario_model(scenario, model); !s) return s;
+            if (Status s = open_scenario_mesh(scenario, mesh); !s) return s;
             mesh_spec = scenario.mesh;
-            out.rest = model.mesh;
-            out.marks.assign(model.mesh.vertex_count(), 0);
+            out.rest.positions = mesh.rest;
+            if (Status s = read_mesh_indices(mesh, out.rest.indices); !s) return s;
+            out.marks.assign(mesh.info.vertex_count, 0);
         } else if (scenario.mesh != mesh_spec || scenario.subdivide != 0) {
             return in_chain(
                 Status(Errc::invalid_argument, "edits in a chain must all name \"" + mesh_spec +
@@ -49,37 +80,9 @@ Status run_edit_chain(std::span<const std::string> scenario_paths, EditChain& ou
                                                    scenario.mesh + "\""),
                 path, i, count);
         }
-        EditSetup edit;
-        if (Status s = resolve_edit(scenario, model, edit); !s) return in_chain(s, path, i, count);
-        std::unique_ptr<deform::DeformSession> session;
-        if (Status s = deform::DeformSession::create(model, edit.roi, edit.handle_groups,
-                                                     edit.settings, session);
-            !s) {
+        if (Status s = solve_edit(scenario, mesh, i + 1 == count, out); !s) {
             return in_chain(s, path, i, count);
         }
-        if (Status s = session->set_targets(edit.targets); !s) return in_chain(s, path, i, count);
-        deform::SolveReport solved;
-        if (Status s = session->solve(solved); !s) return in_chain(s, path, i, count);
-        if (!solved.converged) ++out.unconverged;
-
-        for (std::uint32_t v : edit.roi) out.marks[v] = mark_roi;
-        for (std::size_t g = 0; g < edit.handle_groups.size(); ++g) {
-            const HandleSpec& spec = scenario.handles[g];
-            const bool anchor = !spec.translate && !spec.rotate && spec.targets.empty();
-            for (std::uint32_t v : edit.handle_groups[g]) {
-                out.marks[v] = anchor ? mark_anchor : mark_handle;
-            }
-        }
-        if (i + 1 == count) {
-            out.deformed.assign(session->positions().begin(), session->positions().end());
-            break;
-        }
-        deform::MeshModel baked;
-        if (Status s = deform::bake_positions(model, session->positions(), baked); !s) {
-            return in_chain(s, path, i, count);
-        }
-        session.reset();
-        model = std::move(baked);
     }
     return Status::ok();
 }

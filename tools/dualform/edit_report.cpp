@@ -1,17 +1,30 @@
 #include "dualform/edit_report.hpp"
+#include "dualform/edit_setup.hpp"
 
 namespace dfm::cli {
 
-void write_quality(JsonWriter& json, const deform::QualityReport& q) {
+void write_quality(json::JsonWriter& json, const dfm_quality& q) {
     json.key("quality").begin_object();
-    json.key("max_handle_error").value(q.max_handle_error);
-    json.key("mean_abs_log_edge").value(q.mean_abs_log_edge);
-    json.key("max_abs_log_edge").value(q.max_abs_log_edge);
-    json.key("mean_normal_change_deg").value(q.mean_normal_change_deg);
-    json.key("max_fixed_move").value(q.max_fixed_move);
-    json.key("dual_magnitude_error").value(q.dual_magnitude_error);
-    json.key("flipped_faces").value(std::uint64_t{q.flipped_faces});
+    json.field("max_handle_error", q.max_handle_error);
+    json.field("mean_abs_log_edge", q.mean_abs_log_edge);
+    json.field("max_abs_log_edge", q.max_abs_log_edge);
+    json.field("mean_normal_change_deg", q.mean_normal_change_deg);
+    json.field("max_fixed_move", q.max_fixed_move);
+    json.field("dual_magnitude_error", q.dual_magnitude_error);
+    json.field("flipped_faces", q.flipped_faces);
     json.end_object();
+}
+
+void write_quality(json::JsonWriter& json, const deform::QualityReport& q) {
+    dfm_quality figures = {};
+    figures.max_handle_error = q.max_handle_error;
+    figures.mean_abs_log_edge = q.mean_abs_log_edge;
+    figures.max_abs_log_edge = q.max_abs_log_edge;
+    figures.mean_normal_change_deg = q.mean_normal_change_deg;
+    figures.max_fixed_move = q.max_fixed_move;
+    figures.dual_magnitude_error = q.dual_magnitude_error;
+    figures.flipped_faces = q.flipped_faces;
+    write_quality(json, figures);
 }
 
 }  // namespace dfm::cli

@@ -1,11 +1,11 @@
 #pragma once
 
-#include "deform/quality.hpp"
-#include "dualform/json_writer.hpp"
+#include "dualform/dualform.h"
+#include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
-// Writes "quality": {...} with the field names of ../shared/SCENARIOS.md.
-void write_quality(JsonWriter& json, const deform::QualityReport& q);
+// Writes "quality": {...} with the field names of docs/scenarios.md.
+void write_quality(json::JsonWriter& json, const dfm_quality& q);
 
 }  // namespace dfm::cli

@@ -10,6 +10,7 @@
 
 #include "core/number_text.hpp"
 #include "dualform/pick_camera.hpp"
+#include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "mesh/subdivide.hpp"
@@ -17,6 +18,17 @@
 #include "roi/ball_selection.hpp"
 
 namespace dfm::cli {
+
+bool parse_preconditioner(std::string_view name, deform::Preconditioner& out) {
+    for (auto p : {deform::Preconditioner::cholesky, deform::Preconditioner::incomplete_cholesky,
+                   deform::Preconditioner::jacobi}) {
+        if (name == deform::preconditioner_name(p)) {
+            out = p;
+            return true;
+        }
+    }
+    return false;
+}
 
 namespace {
 
@@ -50,7 +62,7 @@ Status water_fill(std::uint32_t first, std::uint32_t last, const deform::MeshMod
 }
 
 // The vertex a click picks: the nearest vertex of the face it hits.
-Status click_vertex(const pick::EmbreeScene& scene, const ScenarioCamera& camera, glm::dvec2 pixel,
+Status click_vertex(const pick::EmbreeScene& scene, const dfm_camera& camera, glm::dvec2 pixel,
                     const std::string& what, std::uint32_t& out) {
     std::optional<pick::Hit> hit;
     if (Status s = pick::pick_pixel(scene, to_pick_camera(camera), pixel, hit); !s) {
@@ -191,7 +203,9 @@ Status resolve_edit(const Scenario& scenario, const deform::MeshModel& model, Ed
 
 Status load_scenario_model(const Scenario& scenario, deform::MeshModel& model) {
     std::filesystem::path path;
-    if (Status s = mesh::resolve_mesh_spec(scenario.mesh, scenario.base_dir, path); !s) {
+    if (Status s = mesh::resolve_mesh_spec(scenario.mesh, scenario.base_dir,
+                                           tools::models_folder_from_environment(), path);
+        !s) {
         return Status(s.code(), "mesh: " + s.message());
     }
     mesh::Mesh m;

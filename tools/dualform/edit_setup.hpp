@@ -7,10 +7,19 @@
 #include "core/status.hpp"
 #include "deform/deform_session.hpp"
 #include "deform/mesh_model.hpp"
+#include "deform/quality.hpp"
 #include "dualform/scenario.hpp"
+#include "json/json_writer.hpp"
 #include "roi/water_fill.hpp"
 
 namespace dfm::cli {
+
+// Reads a preconditioner's name as preconditioner_name() writes it.
+bool parse_preconditioner(std::string_view name, deform::Preconditioner& out);
+
+// Writes "quality": {...} from the engine's figures (for the benchmarks of
+// internals; the tool's own commands use edit_report.hpp).
+void write_quality(json::JsonWriter& json, const deform::QualityReport& q);
 
 // A scenario resolved against its mesh: vertex sets, per-vertex targets and
 // solver settings, ready for a DeformSession.

@@ -1,17 +1,11 @@
 #pragma once
 
-#include <string_view>
-
-#include "core/status.hpp"
-#include "dualform/scenario.hpp"
+#include "dualform/dualform.h"
 #include "pick/camera.hpp"
 
 namespace dfm::cli {
 
-pick::Camera to_pick_camera(const ScenarioCamera& camera);
-
-// A --camera argument: CAMERA JSON written inline when its first non-blank
-// character is '{', otherwise the path of a file holding it.
-Status read_camera_argument(std::string_view argument, ScenarioCamera& out);
+// The engine's form of the camera (the same fields).
+pick::Camera to_pick_camera(const dfm_camera& camera);
 
 }  // namespace dfm::cli

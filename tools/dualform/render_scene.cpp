@@ -1,9 +1,30 @@
 #include "dualform/render_scene.hpp"
 
-#include "dualform/edit_chain.hpp"
-#include "dualform/mesh_input.hpp"
+#include "dualform/c_api.hpp"
 
 namespace dfm::cli {
+
+namespace {
+
+Status load_plain_mesh(const std::string& spec, MeshArrays& out) {
+    ContextPtr context;
+    if (Status s = create_context(context); !s) return s;
+    dfm_mesh* loaded = nullptr;
+    if (Status s = api_status(dfm_mesh_load(context.get(), spec.c_str(), &loaded)); !s) return s;
+    const MeshPtr mesh(loaded);
+    dfm_mesh_info info = {};
+    if (Status s = api_status(dfm_mesh_get_info(mesh.get(), &info)); !s) return s;
+    out.positions.resize(info.vertex_count);
+    dfm_vec3_output positions = {};
+    positions.data = out.positions.data();
+    positions.count = info.vertex_count;
+    positions.type = DFM_SCALAR_FLOAT64;
+    if (Status s = api_status(dfm_mesh_read_positions(mesh.get(), &positions)); !s) return s;
+    out.indices.resize(3 * info.triangle_count);
+    return api_status(dfm_mesh_read_indices(mesh.get(), out.indices.data(), out.indices.size()));
+}
+
+}  // namespace
 
 Status load_render_scene(std::span<const std::string> inputs, RenderScene& out) {
     out = RenderScene{};
@@ -15,8 +36,7 @@ Status load_render_scene(std::span<const std::string> inputs, RenderScene& out) 
             return Status(Errc::invalid_argument,
                           "give one mesh, or one or more scenarios (.json)");
         }
-        mesh::LoadReport report;
-        return load_mesh_input(inputs.front(), out.rest, report);
+        return load_plain_mesh(inputs.front(), out.rest);
     }
     EditChain chain;
     if (Status s = run_edit_chain(inputs, chain); !s) return s;

@@ -6,15 +6,14 @@
 #include <vector>
 
 #include "core/status.hpp"
-#include "mesh/mesh.hpp"
+#include "dualform/edit_chain.hpp"
 
 namespace dfm::cli {
 
 // What `dualform render` draws: a mesh at rest and, for a scenario, its
-// deformed positions and the edit's marks (the renderer's values: 1 ROI,
-// 2 moving handle, 3 fixed anchor group).
+// deformed positions and the edit's marks (dfm_vk_mark values).
 struct RenderScene {
-    mesh::Mesh rest;
+    MeshArrays rest;
     std::vector<glm::dvec3> deformed;  // empty for a plain mesh
     std::vector<std::uint8_t> marks;   // empty for a plain mesh
 };

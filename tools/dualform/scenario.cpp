@@ -8,14 +8,15 @@
 #include <fstream>
 #include <initializer_list>
 #include <new>
+#include <sstream>
 #include <system_error>
 #include <unordered_map>
 #include <utility>
 
 #include <glm/geometric.hpp>
 
-#include "core/number_text.hpp"
-#include "dualform/json_reader.hpp"
+#include "json/json_reader.hpp"
+#include "json/json_writer.hpp"
 
 // Every field the format does not define is an error, so that a misspelt
 // optional field ("tolerence") cannot silently fall back to a default. The
@@ -24,6 +25,27 @@
 namespace dfm::cli {
 
 namespace {
+
+using json::append_number;
+using json::json_location;
+using json::json_printable;
+using json::json_type_phrase;
+using json::JsonMember;
+using json::JsonPosition;
+using json::JsonStatus;
+using json::JsonType;
+using json::JsonValue;
+
+// The JSON reader's outcome as the engine's status, keeping its message.
+Status read_json(std::string_view text, std::string_view source, JsonValue& out) {
+    const JsonStatus read = json::parse_json(text, source, {.keep_huge_numbers = true}, out);
+    switch (read.code()) {
+        case JsonStatus::Code::ok: return Status::ok();
+        case JsonStatus::Code::out_of_memory: return Status(Errc::out_of_memory, read.message());
+        case JsonStatus::Code::parse_error: break;
+    }
+    return Status(Errc::parse_error, read.message());
+}
 
 using Names = std::initializer_list<std::string_view>;
 
@@ -148,7 +170,7 @@ public:
     }
 
     // A camera as a document of its own (`dualform pick --camera`).
-    Status camera_document(const JsonValue& root, ScenarioCamera& out) const {
+    Status camera_document(const JsonValue& root, dfm_camera& out) const {
         return camera(Field{&root, root.at, ""}, out);
     }
 
@@ -361,7 +383,7 @@ private:
         return pixel(member(f, "last"), out.camera, out.last_pixel);
     }
 
-    Status pixel(const Field& f, const ScenarioCamera& camera, glm::dvec2& out) const {
+    Status pixel(const Field& f, const dfm_camera& camera, glm::dvec2& out) const {
         if (Status s = vec(f, out); !s) return s;
         const double w = camera.width;
         const double h = camera.height;
@@ -376,17 +398,25 @@ private:
         return Status::ok();
     }
 
-    Status camera(const Field& f, ScenarioCamera& out) const {
+    Status camera(const Field& f, dfm_camera& out) const {
         if (Status s = object(f, {"eye", "target", "up", "fov_y_degrees", "width", "height"}); !s) {
             return s;
         }
-        if (Status s = vec(member(f, "eye"), out.eye); !s) return s;
+        glm::dvec3 eye{0.0};
+        glm::dvec3 target_point{0.0};
+        glm::dvec3 up_direction{0.0};
+        if (Status s = vec(member(f, "eye"), eye); !s) return s;
         const Field target = member(f, "target");
-        if (Status s = vec(target, out.target); !s) return s;
-        if (out.target == out.eye) return error(target, "must differ from eye");
+        if (Status s = vec(target, target_point); !s) return s;
+        if (target_point == eye) return error(target, "must differ from eye");
         const Field up = member(f, "up");
-        if (Status s = vec(up, out.up); !s) return s;
-        if (parallel(out.up, out.target - out.eye)) {
+        if (Status s = vec(up, up_direction); !s) return s;
+        for (int k = 0; k < 3; ++k) {
+            out.eye[k] = eye[k];
+            out.target[k] = target_point[k];
+            out.up[k] = up_direction[k];
+        }
+        if (parallel(up_direction, target_point - eye)) {
             return error(up,
                          "must be non-zero and not parallel to the view direction (target - eye)");
         }
@@ -553,7 +583,7 @@ Status parse_scenario(std::string_view text, std::string_view source, Scenario& 
     out = Scenario{};
     try {
         JsonValue root;
-        if (Status s = parse_json(text, source, {.keep_huge_numbers = true}, root); !s) return s;
+        if (Status s = read_json(text, source, root); !s) return s;
         Scenario scenario;
         if (Status s = ScenarioReader(source).scenario(root, scenario); !s) return s;
         out = std::move(scenario);
@@ -563,18 +593,32 @@ Status parse_scenario(std::string_view text, std::string_view source, Scenario& 
     }
 }
 
-Status parse_camera(std::string_view text, std::string_view source, ScenarioCamera& out) {
-    out = ScenarioCamera{};
+Status parse_camera(std::string_view text, std::string_view source, dfm_camera& out) {
+    out = dfm_camera{};
     try {
         JsonValue root;
-        if (Status s = parse_json(text, source, {.keep_huge_numbers = true}, root); !s) return s;
-        ScenarioCamera camera;
+        if (Status s = read_json(text, source, root); !s) return s;
+        dfm_camera camera{};
         if (Status s = ScenarioReader(source).camera_document(root, camera); !s) return s;
         out = camera;
         return Status::ok();
     } catch (const std::bad_alloc&) {
         return out_of_memory(source);
     }
+}
+
+Status read_camera_argument(std::string_view argument, dfm_camera& out) {
+    const std::size_t start = argument.find_first_not_of(" \t\r\n");
+    if (start != std::string_view::npos && argument[start] == '{') {
+        return parse_camera(argument, "--camera", out);
+    }
+    const std::string path(argument);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return Status(Errc::io_error, path + ": cannot open: " + std::strerror(errno));
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) return Status(Errc::io_error, path + ": read failed");
+    return parse_camera(text.str(), path, out);
 }
 
 Status load_scenario(const std::filesystem::path& path, Scenario& out) {

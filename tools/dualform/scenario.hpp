@@ -11,20 +11,12 @@
 #include <glm/vec3.hpp>
 
 #include "core/status.hpp"
+#include "dualform/dualform.h"
 
-// An edit scenario as ../shared/SCENARIOS.md defines it, parsed and checked
+// An edit scenario as docs/scenarios.md defines it, parsed and checked
 // for form (types, required fields, unknown fields) but not yet against a
 // mesh: vertex indices are checked when the scenario is applied.
 namespace dfm::cli {
-
-struct ScenarioCamera {
-    glm::dvec3 eye{0.0};
-    glm::dvec3 target{0.0};
-    glm::dvec3 up{0.0, 1.0, 0.0};
-    double fov_y_degrees = 0.0;
-    std::uint32_t width = 0;
-    std::uint32_t height = 0;
-};
 
 // A vertex ball: every vertex reachable from `center` along mesh edges
 // without leaving the Euclidean ball of radius `radius × diag`.
@@ -38,7 +30,7 @@ struct RoiSpec {
     Kind kind = Kind::all;
     std::uint32_t first = 0;  // water_fill
     std::uint32_t last = 0;
-    ScenarioCamera camera;  // water_fill_clicks
+    dfm_camera camera{};  // water_fill_clicks
     glm::dvec2 first_pixel{0.0};
     glm::dvec2 last_pixel{0.0};
     BallSelection ball;                   // ball
@@ -90,7 +82,11 @@ Status parse_scenario(std::string_view text, std::string_view source, Scenario& 
 
 // Parses a CAMERA object on its own, checked as inside a scenario; errors
 // are located the same way.
-Status parse_camera(std::string_view text, std::string_view source, ScenarioCamera& out);
+Status parse_camera(std::string_view text, std::string_view source, dfm_camera& out);
+
+// A --camera argument: CAMERA JSON written inline when its first non-blank
+// character is '{', otherwise the path of a file holding it.
+Status read_camera_argument(std::string_view argument, dfm_camera& out);
 
 // Reads and parses a scenario file; base_dir is set to its folder.
 Status load_scenario(const std::filesystem::path& path, Scenario& out);

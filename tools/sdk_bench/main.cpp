@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "dualform/dualform.h"
+#include "environment/host_environment.hpp"
 
 namespace {
 
@@ -114,7 +115,10 @@ int main(int argc, char** argv) {
         }
     }
     dfm_context* context = nullptr;
-    check(dfm_context_create(nullptr, &context), "dfm_context_create");
+    const std::string models = dfm::tools::models_folder_from_environment().string();
+    dfm_context_desc context_desc = {};
+    context_desc.models_directory = models.c_str();
+    check(dfm_context_create(&context_desc, &context), "dfm_context_create");
     Edit e;
     check(dfm_mesh_load(context, model.c_str(), &e.mesh), "dfm_mesh_load");
     check(dfm_mesh_get_info(e.mesh, &e.info), "dfm_mesh_get_info");

@@ -20,7 +20,8 @@
 #ifdef DFM_SOLVER_BENCH_CHOLMOD
 #include "cholmod_peer.hpp"
 #endif
-#include "json.hpp"
+#include "environment/host_environment.hpp"
+#include "json/json_writer.hpp"
 #include "measure.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
@@ -79,7 +80,7 @@ bool parse(int argc, char** argv, Settings& s) {
     return true;
 }
 
-void write_factor(Json& json, const FactorMeasure& f) {
+void write_factor(json::JsonWriter& json, const FactorMeasure& f) {
     json.begin_object()
         .field("ordering", solver::ordering_method_name(f.ordering))
         .field("graph_ms", f.graph_ms)
@@ -98,7 +99,7 @@ void write_factor(Json& json, const FactorMeasure& f) {
         .end_object();
 }
 
-void write_solve(Json& json, const SolveMeasure& s) {
+void write_solve(json::JsonWriter& json, const SolveMeasure& s) {
     json.begin_object()
         .field("preconditioner", s.preconditioner.c_str())
         .field("start", s.warm ? "warm" : "cold")
@@ -126,7 +127,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     solver::ThreadPool pool(settings.threads);
-    Json json;
+    json::JsonWriter json(json::JsonWriter::Layout::indented);
     json.begin_object()
         .field("threads", settings.threads)
         .field("hardware_threads", static_cast<std::size_t>(std::thread::hardware_concurrency()))
@@ -136,7 +137,9 @@ int main(int argc, char** argv) {
     for (const std::string& model : settings.models) {
         std::filesystem::path path;
         mesh::Mesh base;
-        if (Status st = mesh::resolve_mesh_spec("model:" + model, ".", path); !st) {
+        if (Status st = mesh::resolve_mesh_spec("model:" + model, ".",
+                                                tools::models_folder_from_environment(), path);
+            !st) {
             std::fprintf(stderr, "solver_bench: %s\n", st.message().c_str());
             return 1;
         }

@@ -71,18 +71,18 @@ DFM_API uint32_t dfm_version(void);
 
 /* ---------------------------------------------------------------- camera */
 
-/* A pinhole camera, as in SCENARIOS.md: at `eye` looking at `target`, `up`
+/* A pinhole camera: at `eye` looking at `target`, `up`
  * giving the image's up direction, `fov_y_degrees` the full vertical field of
  * view, an image of width x height pixels. Pixel coordinates are continuous:
  * (0,0) is the top-left corner, x right, y down; (w/2,h/2) looks at target.
  * Picking and the renderer use the same camera, so a pixel and a pick agree. */
 typedef struct dfm_camera {
-    double eye[3];
-    double target[3];
-    double up[3];
-    double fov_y_degrees;
-    uint32_t width;
-    uint32_t height;
+    double eye[3];        /* where the camera is */
+    double target[3];     /* the point it looks at: seen at pixel (width/2, height/2) */
+    double up[3];         /* the image's up direction; not parallel to target - eye */
+    double fov_y_degrees; /* the full vertical field of view, between 0 and 180 */
+    uint32_t width;       /* the image's width in pixels */
+    uint32_t height;      /* the image's height in pixels */
 } dfm_camera;
 
 /* ---------------------------------------------------------------- arrays */
@@ -95,20 +95,20 @@ typedef enum dfm_scalar_type {
 /* Host-owned 3-vectors read by the library: `count` vectors, vector i at
  * (const char*)data + i * stride. stride 0 means tightly packed. */
 typedef struct dfm_vec3_input {
-    const void* data;
-    size_t count;
-    size_t stride;
-    dfm_scalar_type type;
+    const void* data;     /* the first vector's x */
+    size_t count;         /* number of vectors */
+    size_t stride;        /* bytes from one vector to the next; 0: packed */
+    dfm_scalar_type type; /* float (the default) or double components */
 } dfm_vec3_input;
 
 /* Host-owned 3-vectors written by the library; same layout rules. The count
  * is the capacity: a call that needs more fails with
  * DFM_ERROR_INVALID_ARGUMENT and writes nothing. */
 typedef struct dfm_vec3_output {
-    void* data;
-    size_t count;
-    size_t stride;
-    dfm_scalar_type type;
+    void* data;           /* where the first vector's x goes */
+    size_t count;         /* capacity, in vectors */
+    size_t stride;        /* bytes from one vector to the next; 0: packed */
+    dfm_scalar_type type; /* float (the default) or double components */
 } dfm_vec3_output;
 
 /* ---------------------------------------------------------------- context */
@@ -123,11 +123,12 @@ typedef struct dfm_context dfm_context;
  * reported the same way. Both hooks may be called from any thread,
  * including session workers. */
 typedef struct dfm_allocator {
-    void* (*alloc)(void* user, size_t size, size_t alignment);
-    void (*free)(void* user, void* memory, size_t size);
-    void* user;
+    void* (*alloc)(void* user, size_t size, size_t alignment); /* NULL on failure */
+    void (*free)(void* user, void* memory, size_t size);       /* size as allocated */
+    void* user;                                                /* passed to both */
 } dfm_allocator;
 
+/* How much a log message matters. */
 typedef enum dfm_log_level {
     DFM_LOG_DEBUG = 0,
     DFM_LOG_INFO = 1,
@@ -148,13 +149,19 @@ typedef enum dfm_log_id {
  * `message` lives only during the call. */
 typedef void (*dfm_log_fn)(void* user, dfm_log_level level, dfm_log_id id, const char* message);
 
+/* How a context is made; zero-initialised, every field takes its default. */
 typedef struct dfm_context_desc {
     dfm_allocator allocator; /* both hooks NULL: malloc/free */
     dfm_log_fn log;          /* NULL: no logging */
-    void* log_user;
+    void* log_user;          /* passed to `log` */
     /* Threads each session's solver uses for its factor and solves, its
      * worker thread included; 0 means 1. Results do not depend on it. */
     uint32_t worker_count;
+    /* The folder in which dfm_mesh_load finds "model:NAME" (as NAME.off);
+     * copied at creation. NULL or "": no folder, and model:NAME is
+     * DFM_ERROR_NOT_FOUND. The library reads no environment variable: a host
+     * that wants DUALFORM_MODELS reads it and passes it here. */
+    const char* models_directory;
 } dfm_context_desc;
 
 /* Creates a context; desc may be NULL for all defaults. *out receives the
@@ -174,10 +181,10 @@ typedef struct dfm_mesh dfm_mesh;
  * arrays after the call). Indices: triangle t's corners are the three
  * uint32_t at (const char*)indices + t * index_stride (0: packed, 12 bytes). */
 typedef struct dfm_mesh_desc {
-    dfm_vec3_input positions;
-    const uint32_t* indices;
-    size_t triangle_count;
-    size_t index_stride;
+    dfm_vec3_input positions; /* the vertices */
+    const uint32_t* indices;  /* three vertex indices per triangle */
+    size_t triangle_count;    /* number of triangles */
+    size_t index_stride;      /* bytes from one triangle's indices to the next; 0: 12 */
 } dfm_mesh_desc;
 
 /* Copies a mesh from host arrays. Errors: NULL arguments, no vertices or
@@ -186,8 +193,8 @@ typedef struct dfm_mesh_desc {
  * *out is owned by the caller. Thread-safe. */
 DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_mesh_desc* desc, dfm_mesh** out);
 
-/* Loads an OFF, OBJ or PLY file, or "model:NAME" from the model cache
- * ($DUALFORM_MODELS, default ~/.cache/dualform/models). Errors name the file,
+/* Loads an OFF, OBJ or PLY file, or "model:NAME": NAME.off in the context's
+ * models_directory (dfm_context_desc). Errors name the file,
  * line or byte offset and element. Recoverable defects go to the log
  * (DFM_LOG_ID_LOAD_WARNING). *out is owned by the caller. Thread-safe. */
 DFM_API dfm_result dfm_mesh_load(dfm_context* context, const char* path, dfm_mesh** out);
@@ -201,11 +208,12 @@ DFM_API dfm_result dfm_mesh_save(const dfm_mesh* mesh, const char* path);
  * a no-op. Must not race another call on the same mesh. Not thread-safe for this mesh. */
 DFM_API void dfm_mesh_destroy(dfm_mesh* mesh);
 
+/* A mesh's figures (dfm_mesh_get_info). */
 typedef struct dfm_mesh_info {
-    size_t vertex_count;
-    size_t triangle_count;
-    double bounds_min[3];
-    double bounds_max[3];
+    size_t vertex_count;   /* vertices of the rest pose */
+    size_t triangle_count; /* triangles */
+    double bounds_min[3];  /* the axis-aligned bounding box's lowest corner */
+    double bounds_max[3];  /* and its highest */
     double diagonal;       /* of the bounding box: the unit of tolerances */
     size_t components;     /* connected components */
     size_t boundary_edges; /* edges with one face */
@@ -238,13 +246,14 @@ DFM_API dfm_result dfm_mesh_redo_bake(dfm_mesh* mesh);
 
 /* ---------------------------------------------------------------- picking */
 
+/* What a pick found (dfm_mesh_pick, dfm_mesh_pick_ray). */
 typedef struct dfm_hit {
-    bool hit;
-    uint32_t face;
-    uint32_t vertex; /* the face's corner nearest the hit point */
-    double point[3];
-    double distance; /* along the ray */
-    double barycentric[3];
+    bool hit;              /* false: the ray missed, and nothing else is set */
+    uint32_t face;         /* the triangle hit */
+    uint32_t vertex;       /* the face's corner nearest the hit point */
+    double point[3];       /* where */
+    double distance;       /* along the ray */
+    double barycentric[3]; /* of the point in the face, one weight per corner */
 } dfm_hit;
 
 /* Casts the ray through pixel (x, y) of the camera onto the rest pose (Embree;
@@ -263,6 +272,7 @@ DFM_API dfm_result dfm_mesh_pick_ray(dfm_mesh* mesh, const double origin[3],
 /* A region of interest: a set of vertices of one mesh, immutable. */
 typedef struct dfm_roi dfm_roi;
 
+/* How a Water-Filling went: the cut loops that bound the region. */
 typedef struct dfm_water_fill_diagnosis {
     size_t loops;              /* cut loops bounding the region */
     bool bounded_by_last_loop; /* the loop through `last` is one of them */
@@ -270,9 +280,10 @@ typedef struct dfm_water_fill_diagnosis {
 } dfm_water_fill_diagnosis;
 
 /* The paper's Water-Filling from vertex `first` up to the cutting plane through
- * vertex `last` (DESIGN.md). `diagnosis` may be NULL. A suspect region is
- * still returned (and logged as DFM_LOG_ID_WATER_FILL_SUSPECT): the host
- * decides. *out is owned by the caller. Thread-safe. */
+ * vertex `last` whose normal is the direction from `first` to `last`.
+ * `diagnosis` may be NULL. A suspect region is still returned (and logged as
+ * DFM_LOG_ID_WATER_FILL_SUSPECT): the host decides. *out is owned by the
+ * caller. Thread-safe. */
 DFM_API dfm_result dfm_roi_water_fill(dfm_mesh* mesh, uint32_t first, uint32_t last, dfm_roi** out,
                                       dfm_water_fill_diagnosis* diagnosis);
 
@@ -302,8 +313,10 @@ DFM_API dfm_result dfm_roi_all(dfm_mesh* mesh, dfm_roi** out);
 /* Grows (rings > 0) or shrinks (rings < 0) the region by whole edge rings. */
 DFM_API dfm_result dfm_roi_grow(const dfm_roi* roi, int rings, dfm_roi** out);
 
-/* Union and difference of two ROIs of the same mesh. */
+/* The union of two ROIs of the same mesh. */
 DFM_API dfm_result dfm_roi_union(const dfm_roi* a, const dfm_roi* b, dfm_roi** out);
+
+/* The vertices of `a` that are not in `b` (two ROIs of the same mesh). */
 DFM_API dfm_result dfm_roi_difference(const dfm_roi* a, const dfm_roi* b, dfm_roi** out);
 
 /* The region's vertices with a neighbour outside it: what stays fixed. */
@@ -348,15 +361,16 @@ typedef struct dfm_solver_settings {
 
 /* A group of handle vertices that move together (one transform). */
 typedef struct dfm_handle_group {
-    const uint32_t* vertices;
-    size_t count;
+    const uint32_t* vertices; /* ROI vertices; copied at session creation */
+    size_t count;             /* at least one */
 } dfm_handle_group;
 
+/* One edit: the region, its handle groups and the solver's settings. */
 typedef struct dfm_session_desc {
-    const dfm_roi* roi; /* required; created on the same mesh */
-    const dfm_handle_group* groups;
-    size_t group_count; /* at least one */
-    dfm_solver_settings solver;
+    const dfm_roi* roi;             /* required; created on the same mesh */
+    const dfm_handle_group* groups; /* group_count groups; group g is transform g */
+    size_t group_count;             /* at least one */
+    dfm_solver_settings solver;     /* zero fields: the defaults */
 } dfm_session_desc;
 
 /* Sets up one edit: assembles and factors the ROI's system and starts the
@@ -413,12 +427,12 @@ DFM_API dfm_result dfm_session_cancel(dfm_session* session);
 typedef struct dfm_frame_info {
     uint64_t generation; /* the targets' generation; 0 = the start state */
     dfm_result status;   /* DFM_ERROR_NUMERICAL: broke down, last good positions */
-    bool converged;
-    bool partial; /* stopped early for newer targets */
-    uint32_t iterations;
-    double last_update; /* largest vertex move of the last iteration / diagonal */
-    double solve_ms;
-    uint64_t checksum; /* FNV-1a of the frame's ROI positions as doubles */
+    bool converged;      /* the tolerance was met before the iteration cap */
+    bool partial;        /* stopped early for newer targets */
+    uint32_t iterations; /* of the two-step method */
+    double last_update;  /* largest vertex move of the last iteration / diagonal */
+    double solve_ms;     /* wall time of the solve, in milliseconds */
+    uint64_t checksum;   /* FNV-1a of the frame's ROI positions as doubles */
 } dfm_frame_info;
 
 /* The newest published frame's info, and whether it is newer than
@@ -455,10 +469,10 @@ typedef struct dfm_frame_view {
     const float* roi_positions;      /* x y z per ROI vertex, in roi_vertices order */
     const double* roi_positions_f64; /* the same in double (what the checksum covers) */
     const uint32_t* roi_vertices;    /* the ROI, ascending (as dfm_roi_read) */
-    size_t roi_count;
+    size_t roi_count;                /* entries of the three roi_ arrays */
     const float* normals;            /* x y z unit normal per entry of normal_vertices */
     const uint32_t* normal_vertices; /* every vertex whose normal the edit changes */
-    size_t normal_count;
+    size_t normal_count;             /* entries of normals and normal_vertices */
 } dfm_frame_view;
 
 /* Lends the newest frame: the cheapest read, constant time whatever the ROI
@@ -478,6 +492,101 @@ DFM_API dfm_result dfm_session_release_frame(dfm_session* session);
  * or while a frame is held (dfm_session_acquire_frame).
  * Not concurrent with other calls on the session. */
 DFM_API dfm_result dfm_session_bake(dfm_session* session);
+
+/* ================================================================ reports
+ * What a tool needs to report an edit as docs/scenarios.md describes it
+ * ("The report"): the quality figures of a frame, the solver's figures, and
+ * Loop subdivision for the scale cases. The Water-Filling diagnosis is
+ * dfm_water_fill_diagnosis above. */
+
+/* The quality figures of a frame, computed from the rest and deformed
+ * positions alone. Lengths are fractions of the rest bounding-box diagonal. */
+typedef struct dfm_quality {
+    double max_handle_error;       /* largest distance of a handle vertex from its target */
+    double mean_abs_log_edge;      /* over edges with a ROI endpoint, |log(new / rest length)| */
+    double max_abs_log_edge;       /* the largest of those */
+    double mean_normal_change_deg; /* mean turn of the face normals, faces with a ROI vertex */
+    double max_fixed_move;         /* largest move of a vertex outside the ROI; always 0 */
+    double dual_magnitude_error;   /* mean | |l_f| - |h_f| | over ROI faces / mean |h_f| */
+    size_t flipped_faces;          /* faces with a ROI vertex whose normal turned over 90 deg */
+} dfm_quality;
+
+/* Measures the newest frame against the rest pose and the targets staged
+ * now (so call it after the solve or wait that gave the frame, before
+ * staging others). `info` (may be NULL) says which frame. Thread safety as
+ * dfm_session_read_positions. */
+DFM_API dfm_result dfm_session_measure_quality(dfm_session* session, dfm_quality* out,
+                                               dfm_frame_info* info);
+
+/* The solver's figures: the system's set-up (fixed for the session, new
+ * after a bake) and the newest frame's linear solves. */
+typedef struct dfm_solve_report {
+    size_t unknowns;          /* vertices the solve moves */
+    size_t rows;              /* dual Laplacian rows of the system */
+    size_t normal_nonzeros;   /* stored entries of the normal matrix */
+    double setup_ms;          /* assembling and factoring it */
+    size_t krylov_iterations; /* inner iterations of the frame's solve, in total */
+    double linear_residual; /* ||b - N x|| / ||b|| of its final verified solve; NaN if unverified */
+    bool linear_converged;  /* that solve reached its tolerance */
+} dfm_solve_report;
+
+/* Fills *out for the newest frame; `info` (may be NULL) says which frame.
+ * Thread safety as dfm_session_read_positions. */
+DFM_API dfm_result dfm_session_get_solve_report(dfm_session* session, dfm_solve_report* out,
+                                                dfm_frame_info* info);
+
+/* A new mesh: `steps` (1 to 3) rounds of Loop subdivision of the mesh's
+ * current rest pose. The coarse vertices keep their indices, so vertex
+ * indices chosen on the coarse mesh keep their meaning. *out is owned by the
+ * caller. Thread-safe. */
+DFM_API dfm_result dfm_mesh_subdivide(const dfm_mesh* mesh, uint32_t steps, dfm_mesh** out);
+
+/* What loading a file found besides the mesh (dfm_mesh_load_with_report). */
+typedef struct dfm_load_report {
+    size_t polygons;              /* faces as the file lists them */
+    size_t triangulated_polygons; /* polygons of more than three corners, fanned */
+    size_t dropped_faces;         /* triangles dropped for repeating a vertex */
+} dfm_load_report;
+
+/* dfm_mesh_load, and what the file held besides the mesh into *report (the
+ * caller's; zeroed on failure). Errors, log and ownership as dfm_mesh_load.
+ * Thread-safe. */
+DFM_API dfm_result dfm_mesh_load_with_report(dfm_context* context, const char* path,
+                                             dfm_load_report* report, dfm_mesh** out);
+
+/* A mesh's topology and shape figures, beyond dfm_mesh_info. */
+typedef struct dfm_mesh_summary {
+    size_t edges;                /* distinct edges */
+    size_t boundary_edges;       /* edges with one triangle */
+    size_t non_manifold_edges;   /* edges with more than two triangles */
+    size_t inconsistent_edges;   /* edges two triangles run the same way */
+    size_t components;           /* connected components */
+    size_t isolated_vertices;    /* vertices of no triangle */
+    size_t degenerate_triangles; /* of zero area, relative to the diagonal */
+    bool closed;                 /* no boundary and no non-manifold edge */
+} dfm_mesh_summary;
+
+/* Fills *out for the mesh's current rest pose. Thread-safe. */
+DFM_API dfm_result dfm_mesh_get_summary(const dfm_mesh* mesh, dfm_mesh_summary* out);
+
+/* How dfm_mesh_save_with_options writes PLY. */
+typedef enum dfm_ply_encoding {
+    DFM_PLY_BINARY_LITTLE_ENDIAN = 0, /* the default */
+    DFM_PLY_BINARY_BIG_ENDIAN = 1,
+    DFM_PLY_ASCII = 2
+} dfm_ply_encoding;
+
+/* Options of dfm_mesh_save_with_options; zero: dfm_mesh_save's output. */
+typedef struct dfm_save_options {
+    dfm_ply_encoding ply_encoding; /* PLY only */
+    bool ply_float;                /* PLY coordinates as float (default double, exact) */
+    bool obj_normals;              /* OBJ: area-weighted vertex normals, faces as v//vn */
+} dfm_save_options;
+
+/* dfm_mesh_save with options (NULL: the defaults). DFM_ERROR_INVALID_ARGUMENT
+ * for an unknown encoding. Thread-safe. */
+DFM_API dfm_result dfm_mesh_save_with_options(const dfm_mesh* mesh, const char* path,
+                                              const dfm_save_options* options);
 
 #ifdef __cplusplus
 }

@@ -10,7 +10,9 @@
  * Three ways in:
  * - headless: the renderer creates its own instance and device and renders
  *   offscreen pictures that it reads back (dfm_vk_renderer_render_offscreen);
- * - a GLFW window: its own instance and device, and a swapchain on the window
+ * - a window: its own instance and device, and a swapchain on the window's
+ *   surface, through the host's window system (dfm_vk_window); this library
+ *   links none, and dualform_vulkan_glfw.h is a small backend for GLFW
  *   (dfm_vk_renderer_present);
  * - the host's device: the host hands its instance, physical device, device,
  *   queue family and queue; the renderer records its upload and draw into the
@@ -23,10 +25,12 @@
  * thread-safe: call it from one thread at a time (different renderers may be
  * used from different threads).
  *
- * With DUALFORM_VALIDATION=1 in the environment, a renderer that owns its
- * instance turns on VK_LAYER_KHRONOS_validation (creation fails when it is
- * not installed) and counts every warning and error it reports
- * (dfm_vk_renderer_validation_message_count).
+ * With dfm_vk_renderer_desc.validation, a renderer that owns its instance
+ * turns on VK_LAYER_KHRONOS_validation (creation fails when it is not
+ * installed) and counts every warning and error the layer reports
+ * (dfm_vk_renderer_validation_message_count). The library reads no
+ * environment variable; the tools and samples turn it on for
+ * DUALFORM_VALIDATION=1.
  */
 #ifndef DUALFORM_DUALFORM_VULKAN_H
 #define DUALFORM_DUALFORM_VULKAN_H
@@ -60,9 +64,9 @@ typedef enum dfm_vk_mark {
 
 /* A polyline in world space (the region line, the cutting plane's loop). */
 typedef struct dfm_vk_polyline {
-    dfm_vec3_input points;
-    bool closed;    /* joins the last point back to the first */
-    float color[4]; /* RGBA 0..1; all zero: yellow */
+    dfm_vec3_input points; /* the polyline's corners, in order */
+    bool closed;           /* joins the last point back to the first */
+    float color[4];        /* RGBA 0..1; all zero: yellow */
 } dfm_vk_polyline;
 
 /* How one frame looks. */
@@ -78,19 +82,20 @@ typedef struct dfm_vk_renderer_desc {
     uint32_t frames_in_flight; /* 0: 2; at most 8 */
     uint32_t max_samples;      /* MSAA upper bound: 0 = 4, 1 = off, 2 or 4 */
     bool no_vsync;             /* window path: present without waiting for vertical sync */
+    bool validation;           /* turn on VK_LAYER_KHRONOS_validation and count its messages */
 } dfm_vk_renderer_desc;
 
 /* The host's Vulkan objects (all borrowed: the renderer never destroys them).
  * The device must be Vulkan 1.3 with dynamicRendering enabled. */
 typedef struct dfm_vk_host_desc {
-    VkInstance instance;
-    VkPhysicalDevice physical_device;
-    VkDevice device;
-    uint32_t queue_family;
-    VkQueue queue;         /* the queue the host submits our commands on; the renderer only waits
-                              on it (set_mesh, destroy), so the host must not use it meanwhile */
-    VkFormat color_format; /* the host's colour attachment; required */
-    VkFormat depth_format; /* VK_FORMAT_UNDEFINED (0): no depth attachment */
+    VkInstance instance;              /* the host's instance */
+    VkPhysicalDevice physical_device; /* the device's physical device */
+    VkDevice device;                  /* the host's device, Vulkan 1.3, dynamicRendering on */
+    uint32_t queue_family;            /* the family of `queue` */
+    VkQueue queue;                 /* the queue the host submits our commands on; the renderer never
+                                      submits to it nor waits on it */
+    VkFormat color_format;         /* the host's colour attachment; required */
+    VkFormat depth_format;         /* VK_FORMAT_UNDEFINED (0): no depth attachment */
     VkSampleCountFlagBits samples; /* of the host's attachments; 0: 1 */
     uint32_t frames_in_flight;     /* 0: 2; at most 8 */
     bool fill_mode_non_solid;      /* the host enabled fillModeNonSolid: wireframe works */
@@ -104,27 +109,47 @@ typedef struct dfm_vk_host_desc {
 DFM_API dfm_result dfm_vk_renderer_create_headless(const dfm_vk_renderer_desc* desc,
                                                    dfm_vk_renderer** out);
 
+/* A window the renderer presents to, described through the host's window
+ * system (GLFW, SDL, a platform's own): copied at creation; `user` and what
+ * it points to must outlive the renderer. dualform_vulkan_glfw.h fills one
+ * for a GLFW window. */
+typedef struct dfm_vk_window {
+    const char* const* instance_extensions; /* what the surface needs (VK_KHR_surface, ...) */
+    uint32_t instance_extension_count;      /* entries of instance_extensions */
+    /* Creates the window's surface on the renderer's instance; required. */
+    VkResult (*create_surface)(void* user, VkInstance instance, VkSurfaceKHR* out);
+    /* The framebuffer's size in pixels now (0 x 0 while minimised); required. */
+    void (*framebuffer_size)(void* user, uint32_t* width, uint32_t* height);
+    void* user; /* passed to both functions */
+} dfm_vk_window;
+
 /* Creates a renderer with its own instance and device that presents to a
- * GLFW window (`glfw_window` is a GLFWwindow*, created with
- * GLFW_CLIENT_API = GLFW_NO_API; glfwInit must have succeeded). The window is
- * borrowed and must outlive the renderer. Errors and ownership as
- * dfm_vk_renderer_create_headless. Call from the thread that owns the window. */
-DFM_API dfm_result dfm_vk_renderer_create_window(const dfm_vk_renderer_desc* desc,
-                                                 void* glfw_window, dfm_vk_renderer** out);
+ * window (dfm_vk_renderer_present). DFM_ERROR_INVALID_ARGUMENT for a NULL
+ * window or function; other errors and ownership as
+ * dfm_vk_renderer_create_headless. Call from the thread that owns the
+ * window. */
+DFM_API dfm_result dfm_vk_renderer_create_for_window(const dfm_vk_renderer_desc* desc,
+                                                     const dfm_vk_window* window,
+                                                     dfm_vk_renderer** out);
 
 /* Creates a renderer on the host's device (see dfm_vk_host_desc). *out as
  * above. DFM_ERROR_INVALID_ARGUMENT for missing handles or formats. The
  * validation count stays 0: the host owns its instance's messages. */
 DFM_API dfm_result dfm_vk_renderer_create_host(const dfm_vk_host_desc* desc, dfm_vk_renderer** out);
 
-/* Waits until the GPU is done with the renderer's work, then frees it and
- * everything it created (never the host's objects). NULL is a no-op. No other
- * call on this renderer may run meanwhile, nor follow. */
+/* Frees the renderer and everything it created (never the host's objects).
+ * A renderer with its own device first waits until that device is idle. A
+ * renderer on a host's device waits for nothing: the host must have finished
+ * the command buffers it recorded into (its frame fences, or
+ * vkDeviceWaitIdle) before it calls this. NULL is a no-op. No other call on
+ * this renderer may run meanwhile, nor follow. */
 DFM_API void dfm_vk_renderer_destroy(dfm_vk_renderer* renderer);
 
 /* Sets the mesh: positions and `triangle_count` triangles of three uint32
  * indices. Both arrays are copied. Marks reset to DFM_VK_MARK_SURFACE; lines
- * stay. Waits for the GPU to finish frames in flight. Errors:
+ * stay. With its own device the renderer waits for the frames in flight; on
+ * a host's device it waits for nothing and keeps the old buffers until the
+ * host's frame fences cover them (see dfm_vk_renderer_record_upload). Errors:
  * DFM_ERROR_INVALID_ARGUMENT (no triangles, an index past the vertices, a
  * non-finite position, a stride smaller than a triple); nothing changes then.
  * Not thread-safe per renderer (as every call below taking one). */
@@ -193,8 +218,9 @@ DFM_API dfm_result dfm_vk_renderer_record_draw(dfm_vk_renderer* renderer, VkComm
                                                const dfm_vk_frame* frame, uint32_t width,
                                                uint32_t height);
 
-/* The number of validation warnings and errors seen since creation (0
- * without DUALFORM_VALIDATION=1, and for host renderers). Thread-safe. */
+/* The number of warnings and errors the validation layer reported since
+ * creation (0 without dfm_vk_renderer_desc.validation, and for host
+ * renderers). Thread-safe. */
 DFM_API dfm_result dfm_vk_renderer_validation_message_count(const dfm_vk_renderer* renderer,
                                                             uint64_t* out);
 

@@ -3,8 +3,8 @@
 #include <memory>
 #include <vector>
 
+#include "camera_convert.hpp"
 #include "dualform/dualform_vulkan.h"
-#include "pick/camera.hpp"
 #include "render/png_writer.hpp"
 #include "render/renderer.hpp"
 #include "render/validation.hpp"
@@ -51,9 +51,9 @@ dfm_result check_scalar(const char* function, const dfm_vec3_input& p) {
 render::OwnDeviceOptions own_options(const char* function, const dfm_vk_renderer_desc* desc,
                                      dfm_result& result) {
     render::OwnDeviceOptions options;
-    options.validation = render::validation_requested();
     result = DFM_OK;
     if (desc == nullptr) return options;
+    options.validation = desc->validation;
     if (desc->frames_in_flight != 0) options.frames_in_flight = desc->frames_in_flight;
     switch (desc->max_samples) {
         case 0:
@@ -76,11 +76,9 @@ dfm_result to_view(const char* function, const dfm_vk_frame* frame, std::uint32_
     if (frame->flags & ~(DFM_VK_FLAG_WIREFRAME | DFM_VK_FLAG_FLAT)) {
         return report(function, DFM_ERROR_INVALID_ARGUMENT, "frame.flags has unknown bits");
     }
-    const dfm_camera& c = frame->camera;
-    view.camera =
-        dfm::pick::Camera{{c.eye[0], c.eye[1], c.eye[2]}, {c.target[0], c.target[1], c.target[2]},
-                          {c.up[0], c.up[1], c.up[2]},    c.fov_y_degrees,
-                          width != 0 ? width : c.width,   height != 0 ? height : c.height};
+    view.camera = dfm::sdk::to_camera(frame->camera);
+    if (width != 0) view.camera.width = width;
+    if (height != 0) view.camera.height = height;
     if (dfm::Status s = dfm::pick::check_camera(view.camera); !s) {
         return report(function, DFM_ERROR_INVALID_ARGUMENT, s.message());
     }
@@ -121,21 +119,41 @@ DFM_API dfm_result dfm_vk_renderer_create_headless(const dfm_vk_renderer_desc* d
     });
 }
 
-DFM_API dfm_result dfm_vk_renderer_create_window(const dfm_vk_renderer_desc* desc,
-                                                 void* glfw_window, dfm_vk_renderer** out) {
-    const char* fn = "dfm_vk_renderer_create_window";
+DFM_API dfm_result dfm_vk_renderer_create_for_window(const dfm_vk_renderer_desc* desc,
+                                                     const dfm_vk_window* window,
+                                                     dfm_vk_renderer** out) {
+    const char* fn = "dfm_vk_renderer_create_for_window";
     return guarded(fn, [&]() -> dfm_result {
         if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
         *out = nullptr;
-        if (glfw_window == nullptr) {
-            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "glfw_window is NULL");
+        if (window == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "window is NULL");
+        if (window->create_surface == nullptr || window->framebuffer_size == nullptr) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "window: create_surface and framebuffer_size are required");
+        }
+        if (window->instance_extension_count > 0 && window->instance_extensions == nullptr) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "window: instance_extensions is NULL but its count is not 0");
         }
         dfm_result checked = DFM_OK;
         const render::OwnDeviceOptions options = own_options(fn, desc, checked);
         if (checked != DFM_OK) return checked;
+        const dfm_vk_window w = *window;
+        render::WindowSurface surface;
+        surface.instance_extensions.assign(w.instance_extensions,
+                                           w.instance_extensions + w.instance_extension_count);
+        surface.create_surface = [w](VkInstance instance, VkSurfaceKHR* out_surface) {
+            return w.create_surface(w.user, instance, out_surface);
+        };
+        surface.framebuffer_extent = [w] {
+            std::uint32_t width = 0;
+            std::uint32_t height = 0;
+            w.framebuffer_size(w.user, &width, &height);
+            return VkExtent2D{width, height};
+        };
         std::unique_ptr<render::Renderer> impl;
-        if (render::RenderStatus s = render::Renderer::create_window(
-                options, static_cast<GLFWwindow*>(glfw_window), impl);
+        if (render::RenderStatus s =
+                render::Renderer::create_window(options, std::move(surface), impl);
             !s) {
             return report_render(fn, s);
         }
@@ -358,15 +376,7 @@ DFM_API dfm_result dfm_vk_framing_camera(const dfm_vec3_input* positions, uint32
         const render::StridedPositions points = to_strided(*positions);
         std::vector<glm::dvec3> read(points.count);
         for (std::size_t i = 0; i < points.count; ++i) read[i] = points.at(i);
-        const dfm::pick::Camera c = render::framing_camera(read, width, height);
-        for (int k = 0; k < 3; ++k) {
-            out->eye[k] = c.eye[k];
-            out->target[k] = c.target[k];
-            out->up[k] = c.up[k];
-        }
-        out->fov_y_degrees = c.fov_y_degrees;
-        out->width = c.width;
-        out->height = c.height;
+        *out = dfm::sdk::to_c_camera(render::framing_camera(read, width, height));
         return DFM_OK;
     });
 }

@@ -1,68 +1,80 @@
-#include "dualform/json_writer.hpp"
+#include "json/json_writer.hpp"
 
+#include <charconv>
 #include <cmath>
 
-#include "core/number_text.hpp"
+namespace dfm::json {
 
-namespace dfm::cli {
+void append_number(std::string& out, double value) {
+    char buffer[32];
+    const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+    out.append(buffer, ec == std::errc() ? end : buffer);
+}
+
+void JsonWriter::newline() {
+    if (layout_ == Layout::compact) return;
+    out_ += '\n';
+    out_.append(2 * has_items_.size(), ' ');
+}
 
 void JsonWriter::separate() {
     if (after_key_) {
         after_key_ = false;
         return;
     }
-    if (!has_items_.empty()) {
-        if (has_items_.back()) out_ += ',';
-        has_items_.back() = true;
-    }
+    if (has_items_.empty()) return;
+    if (has_items_.back()) out_ += ',';
+    has_items_.back() = true;
+    newline();
+}
+
+void JsonWriter::open(char bracket) {
+    separate();
+    out_ += bracket;
+    has_items_.push_back(false);
+}
+
+void JsonWriter::close(char bracket) {
+    const bool had_items = has_items_.back();
+    has_items_.pop_back();
+    if (had_items) newline();
+    out_ += bracket;
 }
 
 JsonWriter& JsonWriter::begin_object() {
-    separate();
-    out_ += '{';
-    has_items_.push_back(false);
+    open('{');
     return *this;
 }
 
 JsonWriter& JsonWriter::end_object() {
-    out_ += '}';
-    has_items_.pop_back();
+    close('}');
     return *this;
 }
 
 JsonWriter& JsonWriter::begin_array() {
-    separate();
-    out_ += '[';
-    has_items_.push_back(false);
+    open('[');
     return *this;
 }
 
 JsonWriter& JsonWriter::end_array() {
-    out_ += ']';
-    has_items_.pop_back();
+    close(']');
     return *this;
 }
 
 JsonWriter& JsonWriter::key(std::string_view name) {
     value(name);
-    out_ += ':';
+    out_ += layout_ == Layout::compact ? ":" : ": ";
     after_key_ = true;
     return *this;
 }
 
 JsonWriter& JsonWriter::value(double v) {
     separate();
-    if (std::isfinite(v)) {
-        append_number(out_, v);
-    } else {
+    if (!std::isfinite(v)) {
         out_ += "null";
+        return *this;
     }
-    return *this;
-}
-
-JsonWriter& JsonWriter::value(std::uint64_t v) {
-    separate();
-    out_ += std::to_string(v);
+    append_number(out_, v);
     return *this;
 }
 
@@ -93,4 +105,4 @@ JsonWriter& JsonWriter::value(std::string_view v) {
     return *this;
 }
 
-}  // namespace dfm::cli
+}  // namespace dfm::json

@@ -1,0 +1,60 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/status.hpp"
+#include "dualform/c_api.hpp"
+#include "dualform/scenario.hpp"
+
+namespace dfm::cli {
+
+// A scenario's mesh through the C API: loaded (a path relative to the
+// scenario, or model:NAME) and subdivided as it asks.
+struct ScenarioMesh {
+    ContextPtr context;
+    MeshPtr mesh;
+    dfm_mesh_info info{};
+    std::vector<glm::dvec3> rest;  // the rest positions
+};
+
+Status open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out);
+
+// Reads the info and rest positions again, after a bake.
+Status refresh_scenario_mesh(ScenarioMesh& mesh);
+
+// The triangles' vertex indices, three per triangle.
+Status read_mesh_indices(const ScenarioMesh& mesh, std::vector<std::uint32_t>& out);
+
+// The ROI the spec selects, with its vertices ascending. For the
+// Water-Filling kinds `diagnosis` receives the fill's diagnosis; otherwise
+// it is reset. Errors name the scenario's field.
+struct ScenarioRoi {
+    RoiPtr roi;
+    std::vector<std::uint32_t> vertices;
+    std::optional<dfm_water_fill_diagnosis> diagnosis;
+};
+
+Status select_roi(const RoiSpec& spec, const ScenarioMesh& mesh, ScenarioRoi& out);
+
+// A scenario resolved against its mesh, ready for dfm_session_create: the
+// ROI, the handle groups, one target per handle vertex in group order, and
+// the solver settings.
+struct ScenarioEdit {
+    ScenarioRoi roi;
+    std::vector<std::vector<std::uint32_t>> groups;
+    std::vector<glm::dvec3> targets;
+    dfm_solver_settings solver{};
+
+    std::size_t handle_count() const { return targets.size(); }
+};
+
+Status resolve_scenario_edit(const Scenario& scenario, const ScenarioMesh& mesh, ScenarioEdit& out);
+
+// Creates the edit's session with its targets staged.
+Status start_session(const ScenarioMesh& mesh, const ScenarioEdit& edit, SessionPtr& out);
+
+}  // namespace dfm::cli

@@ -1,0 +1,52 @@
+#include "dualform/c_api.hpp"
+
+#include <cstdio>
+
+#include "environment/host_environment.hpp"
+
+namespace dfm::cli {
+
+namespace {
+
+Errc errc_of(dfm_result result) {
+    switch (result) {
+        case DFM_OK: return Errc::ok;
+        case DFM_ERROR_NOT_FOUND: return Errc::not_found;
+        case DFM_ERROR_IO: return Errc::io_error;
+        case DFM_ERROR_PARSE: return Errc::parse_error;
+        case DFM_ERROR_OUT_OF_RANGE: return Errc::out_of_range;
+        case DFM_ERROR_UNSUPPORTED: return Errc::unsupported;
+        case DFM_ERROR_OUT_OF_MEMORY: return Errc::out_of_memory;
+        case DFM_ERROR_NUMERICAL: return Errc::numerical;
+        default: return Errc::invalid_argument;
+    }
+}
+
+void print_warning(void*, dfm_log_level level, dfm_log_id id, const char* message) {
+    if (level >= DFM_LOG_WARNING && id == DFM_LOG_ID_LOAD_WARNING) {
+        std::fprintf(stderr, "warning: %s\n", message);
+    }
+}
+
+}  // namespace
+
+Status api_status(dfm_result result, const std::string& what) {
+    if (result == DFM_OK) return Status::ok();
+    std::string message = what;
+    if (!message.empty()) message += ": ";
+    message += dfm_last_error_message();
+    return Status(errc_of(result), std::move(message));
+}
+
+Status create_context(ContextPtr& out) {
+    const std::string models = tools::models_folder_from_environment().string();
+    dfm_context_desc desc = {};
+    desc.models_directory = models.c_str();
+    desc.log = print_warning;
+    dfm_context* context = nullptr;
+    if (Status s = api_status(dfm_context_create(&desc, &context)); !s) return s;
+    out.reset(context);
+    return Status::ok();
+}
+
+}  // namespace dfm::cli
