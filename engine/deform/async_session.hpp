@@ -5,6 +5,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <span>
@@ -19,12 +20,17 @@ namespace dfm::deform {
 
 // One published result of an asynchronous session.
 struct Frame {
-    // The targets' generation it was solved for; 0 is the start state.
+    // The targets' generation it was solved for; the start state carries
+    // AsyncSession::Start::first_generation.
     std::uint64_t generation = 0;
     // A preview: an iterate published while the solve for `generation` runs.
     bool partial = false;
+    // The set-up (assembly, ordering, factorization) is still running on the
+    // worker: the positions are the rest pose.
+    bool preparing = false;
     SolveReport report;
-    // numerical: the solve broke down and `positions` are the last good ones.
+    // numerical: the solve broke down and `positions` are the last good ones;
+    // any other failure: the set-up or the worker failed.
     Errc status = Errc::ok;
     // FNV-1a over the bytes of `positions`, computed as the frame was
     // written: a reader that recomputes it knows the frame is whole.
@@ -39,50 +45,78 @@ struct Frame {
 std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
 
 // A DeformSession behind a worker thread (DESIGN.md, "Asynchronous engine").
-// The host submits targets without blocking; latest wins: queued targets that
-// a newer submit replaces are never solved. A running solve finishes (only
-// cancel, destroy and solve_now stop it early), so every finished frame is a
-// converged result; while it runs, an iterate is published as a partial
-// frame at most every preview_interval, so a host whose handles move faster
-// than the solve still sees the shape follow. Frames live in four slots: the
-// newest, the one the worker writes, one a reader copies and one a host holds
-// as a view; no side waits for another beyond swapping indices, and no frame
-// is ever torn.
+// The worker first builds the session (the set-up), so creating one never
+// costs the host's frame; meanwhile frames show the rest pose, marked
+// preparing, and submitted targets wait for it. The host submits targets
+// without blocking; latest wins: queued targets that a newer submit replaces
+// are never solved. A running solve finishes (only cancel, destroy and
+// solve_now stop it early), so every finished frame is a converged result;
+// while it runs, an iterate is published as a partial frame at most every
+// preview_interval. Frames live in five slots: the newest, the newest
+// finished (kept for a bake while previews follow it), the one the worker
+// writes, one a reader copies and one a host holds as a view; no side waits
+// for another beyond swapping indices, and no frame is ever torn.
 class AsyncSession {
 public:
-    // `roi` is the region the session was created with (ascending); frames
-    // carry the positions of all its vertices.
-    static Status create(std::unique_ptr<DeformSession> session, std::span<const std::uint32_t> roi,
+    // Builds the session on the worker; what it throws is reported as the
+    // set-up's failure.
+    using Setup = std::function<Status(std::unique_ptr<DeformSession>&)>;
+    // Called on the publishing thread (the worker, or solve_now's caller)
+    // after each frame is published, with no lock held.
+    using FrameHook = std::function<void(const Frame&)>;
+
+    struct Start {
+        // The start frame's generation; submits count on from
+        // submitted_through + 1, so generations grow across restarts.
+        std::uint64_t first_generation = 0;
+        std::uint64_t submitted_through = 0;
+        FrameHook on_frame;
+    };
+
+    // `roi` is the region the session edits (ascending); frames carry the
+    // positions of all its vertices. `handle_vertices` are the set-up's,
+    // in order. `model` must outlive the AsyncSession.
+    static Status create(const MeshModel& model, std::span<const std::uint32_t> roi,
+                         std::span<const std::uint32_t> handle_vertices, Setup setup, Start start,
                          std::unique_ptr<AsyncSession>& out);
-    // Stops the worker after the iteration in progress and joins it.
+    // Stops the worker after the iteration in progress (or after the set-up,
+    // which cannot be stopped part way) and joins it.
     ~AsyncSession();
     AsyncSession(const AsyncSession&) = delete;
     AsyncSession& operator=(const AsyncSession&) = delete;
 
     // Queues `targets` (one per handle vertex) for the worker and returns
-    // their generation. Never waits for a solve. Non-finite targets or a
-    // wrong count are refused and nothing is queued.
+    // their generation. Never waits for a solve or the set-up. Non-finite
+    // targets, a wrong count or a failed set-up are refused and nothing is
+    // queued.
     Status submit(std::span<const glm::dvec3> targets, std::uint64_t& generation);
 
     // Drops queued targets and stops the running solve after its current
-    // iteration; returns once the worker is idle. Frames already published
-    // stay; the session keeps the stopped iterate as its next starting point.
+    // iteration; returns once no solve runs (a running set-up goes on).
+    // Frames already published stay; the session keeps the stopped iterate
+    // as its next starting point.
     void cancel();
 
     // Solves `targets` on the calling thread (refused like submit's), after
-    // stopping the worker's solve, and publishes the frame as the worker would: the same
-    // arithmetic, so the result is bit for bit what the worker computes from
-    // the same state.
+    // waiting for the set-up and stopping the worker's solve, and publishes
+    // the frame as the worker would: the same arithmetic, so the result is
+    // bit for bit what the worker computes from the same state.
     Status solve_now(std::span<const glm::dvec3> targets, std::uint64_t& generation);
 
     enum class WaitResult { ready, cancelled, timed_out };
-    // Waits until a finished (not interrupted) frame of generation >=
-    // `generation` is published (ready), that generation is cancelled, or
-    // `timeout` passes; nanoseconds::max() waits without limit.
+    // Waits until the set-up has ended and a finished (not interrupted) frame
+    // of generation >= `generation` is published (ready), that generation is
+    // cancelled, or `timeout` passes; nanoseconds::max() waits without
+    // limit. The start frame's generation waits for the set-up alone.
     WaitResult wait(std::uint64_t generation, std::chrono::nanoseconds timeout);
 
-    // Changes when later solves stop; waits for a running solve to end.
+    // Changes when later solves stop; waits for the set-up and a running
+    // solve to end.
     Status set_stopping_rule(double tolerance, int max_iterations);
+
+    // Whether the set-up still runs, and how it ended once it has.
+    bool preparing() const;
+    Status setup_status() const;
 
     std::uint64_t newest_generation() const;
     std::uint64_t submitted_generation() const;
@@ -103,6 +137,24 @@ public:
         reading_ = -1;
     }
 
+    // Calls `reader(const Frame&)` with the newest finished frame if
+    // `generation` is 0 or that frame's; false (and no call) otherwise.
+    template <class Reader>
+    bool read_finished(std::uint64_t generation, Reader&& reader) {
+        std::lock_guard<std::mutex> read_lock(read_mutex_);
+        int slot = 0;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            slot = finished_;
+            if (generation != 0 && frames_[slot].generation != generation) return false;
+            reading_ = slot;
+        }
+        reader(static_cast<const Frame&>(frames_[slot]));
+        std::lock_guard<std::mutex> lock(mutex_);
+        reading_ = -1;
+        return true;
+    }
+
     // Holds the newest frame for the caller until release(): zero-copy
     // reading. Null when a frame is already held (one at a time).
     const Frame* acquire();
@@ -121,40 +173,53 @@ public:
     const MeshModel& model() const { return model_; }
 
 private:
-    explicit AsyncSession(std::unique_ptr<DeformSession> session);
+    explicit AsyncSession(const MeshModel& model) : model_(model) {}
     void run_worker();
+    // Runs the set-up and publishes its outcome; false when it failed.
+    bool set_up();
     // The count and finiteness of targets, checked before anything changes.
     Status check_targets(std::span<const glm::dvec3> targets) const;
     // Solves for `targets` under solve_mutex_ and publishes the frame.
     Status solve_and_publish(std::span<const glm::dvec3> targets, std::uint64_t generation,
                              const std::atomic<bool>* interrupt);
+    // The session's positions, or the rest pose before a set-up.
+    std::span<const glm::dvec3> current_positions() const;
     void publish(std::uint64_t generation, const SolveReport& report, Errc status, bool partial);
-    // Publishes the session's last good positions with a failure status, so
-    // a host waiting for `generation` hears of it.
+    // Publishes the last good positions with a failure status, so a host
+    // waiting for `generation` hears of it.
     void publish_failure(std::uint64_t generation, Errc status);
+    // Waits until the set-up has ended; false when it failed.
+    bool wait_until_set_up();
 
-    std::unique_ptr<DeformSession> session_;
     const MeshModel& model_;
+    Setup setup_;  // the worker's until it has run
+    FrameHook on_frame_;
+    std::unique_ptr<DeformSession> session_;  // set once by the worker, before preparing_ ends
     std::vector<std::uint32_t> moving_;
     std::vector<std::uint32_t> handle_vertices_;
     RegionNormals normals_;
 
-    // Guards the queue, the generations and the slot indices; held briefly.
+    // Guards the queue, the generations, the set-up's outcome and the slot
+    // indices; held briefly.
     mutable std::mutex mutex_;
     std::condition_variable work_ready_;
     std::condition_variable frame_ready_;
     std::vector<glm::dvec3> queued_targets_;
     bool has_queued_ = false;
     bool stopping_ = false;
+    bool preparing_ = true;
+    Status setup_status_;
+    std::uint64_t first_generation_ = 0;
     std::uint64_t next_generation_ = 1;
     std::uint64_t queued_generation_ = 0;
     std::uint64_t cancelled_through_ = 0;
     std::uint64_t newest_generation_ = 0;
     std::uint64_t newest_finished_ = 0;
     int front_ = 0;
+    int finished_ = 0;
     int reading_ = -1;
     int held_ = -1;
-    std::array<Frame, 4> frames_;
+    std::array<Frame, 5> frames_;
 
     // Held by whoever runs the DeformSession: the worker or solve_now.
     std::mutex solve_mutex_;

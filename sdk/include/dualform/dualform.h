@@ -12,6 +12,19 @@
  *   the same thread. A successful call does not clear it.
  * - Descriptor structs are valid when zero-initialised ("= {0}"); a zero field
  *   takes the documented default.
+ * - Descriptors grow without breaking callers. Each begins with
+ *   `struct_size`: set it to sizeof the struct (0 stands for the size the
+ *   struct had in version 0.2, where the field appeared). The library reads
+ *   only struct_size bytes, so a caller built against an older, smaller
+ *   struct keeps working and the fields it lacks take their defaults; a
+ *   caller built against a newer, larger struct is accepted when the bytes
+ *   this library does not know are zero, and refused with
+ *   DFM_ERROR_UNSUPPORTED otherwise. Structs embedded in descriptors
+ *   (dfm_solver_settings) keep their size and grow into `reserved`, which
+ *   must be zero.
+ * - Handles are values, not addresses: an index and a generation. A
+ *   destroyed handle is refused with DFM_ERROR_INVALID_HANDLE for ever, even
+ *   after its memory serves a new object.
  * - dfm_X_destroy(NULL) is a no-op.
  * - Nothing throws across this boundary, and nothing aborts on bad input.
  */
@@ -51,7 +64,8 @@ typedef enum dfm_result {
     DFM_ERROR_INVALID_HANDLE = 9,   /* a handle already destroyed, or of the wrong kind */
     DFM_ERROR_BUSY = 10,            /* the object is in use in a way that forbids the call */
     DFM_ERROR_DEVICE = 11,          /* the graphics device failed (renderer only) */
-    DFM_ERROR_CANCELLED = 12        /* the work was cancelled before it finished */
+    DFM_ERROR_CANCELLED = 12,       /* the work was cancelled before it finished */
+    DFM_ERROR_INTERNAL = 13         /* a defect of Dualform's; the message says where */
 } dfm_result;
 
 /* The name of a result code ("DFM_ERROR_PARSE"); never NULL. Thread-safe. */
@@ -68,6 +82,14 @@ DFM_API dfm_result dfm_last_error_code(void);
 /* DFM_VERSION of the library actually linked (may differ from the header's). Never fails;
  * thread-safe. */
 DFM_API uint32_t dfm_version(void);
+
+/* Whether this library can serve a caller compiled against the header of
+ * version `header_version`: the same major version and, before 1.0, the same
+ * minor one; from 1.0 on, a library minor at least the header's. Hosts check
+ * once at start-up with DFM_VERSION_MATCHES(). Never fails; thread-safe. */
+DFM_API bool dfm_version_compatible(uint32_t header_version);
+
+#define DFM_VERSION_MATCHES() dfm_version_compatible(DFM_VERSION)
 
 /* ---------------------------------------------------------------- camera */
 
@@ -149,6 +171,11 @@ typedef enum dfm_log_id {
 typedef void (*dfm_log_fn)(void* user, dfm_log_level level, dfm_log_id id, const char* message);
 
 typedef struct dfm_context_desc {
+    uint32_t struct_size;    /* sizeof(dfm_context_desc); see the conventions */
+    /* DFM_VERSION of the header the caller was built with: the context is
+     * refused (DFM_ERROR_UNSUPPORTED) unless dfm_version_compatible(). 0:
+     * not checked. */
+    uint32_t header_version;
     dfm_allocator allocator; /* both hooks NULL: malloc/free */
     dfm_log_fn log;          /* NULL: no logging */
     void* log_user;
@@ -174,6 +201,7 @@ typedef struct dfm_mesh dfm_mesh;
  * arrays after the call). Indices: triangle t's corners are the three
  * uint32_t at (const char*)indices + t * index_stride (0: packed, 12 bytes). */
 typedef struct dfm_mesh_desc {
+    uint32_t struct_size; /* sizeof(dfm_mesh_desc); see the conventions */
     dfm_vec3_input positions;
     const uint32_t* indices;
     size_t triangle_count;
@@ -329,12 +357,14 @@ DFM_API void dfm_roi_destroy(dfm_roi* roi);
 
 typedef struct dfm_session dfm_session;
 
-/* Zero means the default. */
+/* Zero means the default. Later settings take `reserved` words, which must
+ * be zero (DFM_ERROR_UNSUPPORTED otherwise). */
 typedef struct dfm_solver_settings {
     double tolerance;        /* largest vertex update / diagonal that ends it; 1e-5 */
     uint32_t max_iterations; /* 100 */
     double handle_weight;    /* weight of the soft handle rows; 1 */
     bool hard_handles;       /* handles met exactly instead of weighted */
+    uint32_t reserved[8];
 } dfm_solver_settings;
 
 /* A group of handle vertices that move together (one transform). */
@@ -343,16 +373,37 @@ typedef struct dfm_handle_group {
     size_t count;
 } dfm_handle_group;
 
+typedef struct dfm_frame_info dfm_frame_info;
+
+/* Called on the thread that published a frame (the session's worker; the
+ * caller's thread for dfm_session_solve), after it is published and
+ * before the next one can be: partial, finished and set-up frames alike.
+ * `info` lives only during the call. The callback may poll, read, acquire
+ * and release frames of the session, and submit; it must not call cancel,
+ * solve, set_solver, bake or destroy on the same session (they wait for
+ * the thread that is running the callback). Keep it short: the worker
+ * does not solve while it runs. */
+typedef void (*dfm_frame_ready_fn)(void* user, dfm_session* session,
+                                   const dfm_frame_info* info);
+
 typedef struct dfm_session_desc {
-    const dfm_roi* roi; /* required; created on the same mesh */
+    uint32_t struct_size; /* sizeof(dfm_session_desc); see the conventions */
+    const dfm_roi* roi;   /* required; created on the same mesh */
     const dfm_handle_group* groups;
     size_t group_count; /* at least one */
     dfm_solver_settings solver;
+    dfm_frame_ready_fn on_frame; /* NULL: none */
+    void* on_frame_user;
 } dfm_session_desc;
 
-/* Sets up one edit: assembles and factors the ROI's system and starts the
- * session's worker thread. Handle vertices must lie in the ROI, each in one
- * group (errors name the group and vertex). The session starts at the rest
+/* Starts one edit and returns at once: the handle groups are checked here
+ * (handle vertices must lie in the ROI, each once, in one group; errors name
+ * the group and vertex), then the set-up (assembly, ordering, factorization)
+ * runs on the session's new worker thread. Until it ends, frames show the
+ * rest pose with `preparing` set, submitted targets wait for it, and cancel
+ * and destroy work as usual (destroy waits for the set-up to end). A set-up
+ * that fails (out of memory, a singular system) is reported in the next
+ * frame's status and by every later submit. The session starts at the rest
  * pose with every group's transform the identity. It holds its mesh alive.
  * *out is owned by the caller. Thread-safe. */
 DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_session_desc* desc,
@@ -401,7 +452,7 @@ DFM_API dfm_result dfm_session_solve(dfm_session* session, uint64_t* generation)
 DFM_API dfm_result dfm_session_cancel(dfm_session* session);
 
 /* What a frame is. */
-typedef struct dfm_frame_info {
+struct dfm_frame_info {
     uint64_t generation; /* the targets' generation; 0 = the start state */
     dfm_result status;   /* DFM_ERROR_NUMERICAL: broke down, last good positions */
     bool converged;
@@ -410,7 +461,8 @@ typedef struct dfm_frame_info {
     double last_update; /* largest vertex move of the last iteration / diagonal */
     double solve_ms;
     uint64_t checksum; /* FNV-1a of the frame's ROI positions as doubles */
-} dfm_frame_info;
+    bool preparing;    /* the set-up still runs: the rest pose, nothing solved yet */
+};
 
 /* The newest published frame's info, and whether it is newer than
  * `known_generation`: the host's cheap per-frame check. Never blocks on the
@@ -418,8 +470,9 @@ typedef struct dfm_frame_info {
 DFM_API dfm_result dfm_session_poll(dfm_session* session, uint64_t known_generation,
                                     dfm_frame_info* out, bool* is_new);
 
-/* Waits (no spinning) until a finished frame of generation >= `generation`
- * is published: DFM_OK. DFM_ERROR_CANCELLED if that generation was cancelled,
+/* Waits (no spinning) until the set-up has ended and a finished frame of
+ * generation >= `generation` is published: DFM_OK. Generation 0 (or, after a
+ * bake, the baked frame's) waits for the set-up alone. DFM_ERROR_CANCELLED if that generation was cancelled,
  * DFM_ERROR_BUSY on timeout (timeout_ms < 0: no limit). `out` may be NULL. */
 DFM_API dfm_result dfm_session_wait(dfm_session* session, uint64_t generation, int64_t timeout_ms,
                                     dfm_frame_info* out);
@@ -462,13 +515,25 @@ DFM_API dfm_result dfm_session_acquire_frame(dfm_session* session, dfm_frame_vie
 /* Gives the held frame back. DFM_ERROR_INVALID_ARGUMENT when none is held. */
 DFM_API dfm_result dfm_session_release_frame(dfm_session* session);
 
-/* Bakes the newest finished frame into the mesh's rest pose (undoable with
- * dfm_mesh_undo_bake), then restarts the session on the new rest pose with
- * the same ROI and groups and identity transforms. DFM_ERROR_BUSY when the
- * mesh has changed since the session was created (another bake or an undo),
- * or while a frame is held (dfm_session_acquire_frame).
+/* Bakes the newest finished frame, exactly as published (never a new
+ * solve; staged targets are not looked at), into the mesh's rest pose
+ * (undoable with dfm_mesh_undo_bake). Queued and running solves are
+ * dropped. The session then restarts on the new rest pose with the same
+ * ROI and groups and identity transforms: its set-up runs on the worker as
+ * at creation (frames report `preparing`), and generations go on growing:
+ * the restarted session's first frame carries the baked frame's
+ * generation, and the next submit a generation above every earlier one.
+ * DFM_ERROR_BUSY when the mesh has changed since the session was created
+ * (another bake or an undo), while a frame is held
+ * (dfm_session_acquire_frame), or while the session is preparing.
  * Not concurrent with other calls on the session. */
 DFM_API dfm_result dfm_session_bake(dfm_session* session);
+
+/* The same for the finished frame of generation `generation`, which must
+ * be the newest finished frame (the one the host last saw finish):
+ * DFM_ERROR_NOT_FOUND when a newer finished frame has replaced it (the
+ * message gives the newest); 0 means the newest finished frame. */
+DFM_API dfm_result dfm_session_bake_generation(dfm_session* session, uint64_t generation);
 
 #ifdef __cplusplus
 }
