@@ -51,15 +51,6 @@ Status AsyncSession::create(const MeshModel& model, std::span<const std::uint32_
         s->setup_ = std::move(setup);
         s->handle_vertices_.assign(handle_vertices.begin(), handle_vertices.end());
         s->moving_.assign(roi.begin(), roi.end());
-        std::sort(s->moving_.begin(), s->moving_.end());
-        s->moving_.erase(std::unique(s->moving_.begin(), s->moving_.end()), s->moving_.end());
-        s->normals_.build(model, s->moving_);
-        for (Frame& frame : s->frames_) {
-            frame.positions.resize(s->moving_.size());
-            frame.normals.resize(s->normals_.vertices().size());
-            frame.positions_f32.resize(3 * s->moving_.size());
-            frame.normals_f32.resize(3 * s->normals_.vertices().size());
-        }
         s->queued_targets_.resize(s->handle_vertices_.size());
         s->worker_targets_.resize(s->handle_vertices_.size());
         s->first_generation_ = start.first_generation;
@@ -110,6 +101,7 @@ Status AsyncSession::check_targets(std::span<const glm::dvec3> targets) const {
 Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
     generation = 0;
     if (Status s = check_targets(targets); !s) return s;
+    bool wake = false;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         if (!setup_status_) return setup_status_;
@@ -117,8 +109,9 @@ Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& 
         has_queued_ = true;
         queued_generation_ = next_generation_++;
         generation = queued_generation_;
+        wake = !worker_polling_;
     }
-    work_ready_.notify_one();
+    if (wake) work_ready_.notify_one();
     return Status::ok();
 }
 
@@ -202,6 +195,8 @@ bool AsyncSession::set_up() {
     Status built;
     std::unique_ptr<DeformSession> session;
     try {
+        normals_.build(model_, moving_);
+        normals_built_ = true;
         built = setup_(session);
         if (built && !session) built = Status(Errc::internal, "the set-up made no session");
     } catch (const std::bad_alloc&) {
@@ -253,7 +248,7 @@ void AsyncSession::run_worker() {
         std::uint64_t generation = 0;
         {
             std::unique_lock<std::mutex> lock(mutex_);
-            work_ready_.wait(lock, [&] { return stopping_ || has_queued_; });
+            wait_for_work(lock);
             if (stopping_) return;
             std::swap(queued_targets_, worker_targets_);
             generation = queued_generation_;
@@ -271,6 +266,20 @@ void AsyncSession::run_worker() {
             publish_failure(generation, Errc::internal);
         }
     }
+}
+
+void AsyncSession::wait_for_work(std::unique_lock<std::mutex>& lock) {
+    const auto idle_since = std::chrono::steady_clock::now();
+    while (!stopping_ && !has_queued_) {
+        if (std::chrono::steady_clock::now() - idle_since < idle_poll_window) {
+            worker_polling_ = true;
+            work_ready_.wait_for(lock, idle_poll_interval);
+        } else {
+            worker_polling_ = false;
+            work_ready_.wait(lock, [&] { return stopping_ || has_queued_; });
+        }
+    }
+    worker_polling_ = false;
 }
 
 Status AsyncSession::solve_and_publish(std::span<const glm::dvec3> targets,
@@ -340,9 +349,17 @@ void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, 
         preparing = preparing_;
     }
     Frame& frame = frames_[slot];
+    // A slot's arrays are sized on its first use (and once more when the
+    // normals appear), so that creating a session allocates one frame.
+    frame.positions.resize(moving_.size());
+    frame.positions_f32.resize(3 * moving_.size());
+    const std::size_t normal_count = normals_built_ ? normals_.vertices().size() : 0;
+    frame.normals.resize(normal_count);
+    frame.normals_f32.resize(3 * normal_count);
+    frame.normal_vertices = normals_built_ ? normals_.vertices() : std::span<const std::uint32_t>();
     const std::span<const glm::dvec3> positions = current_positions();
     for (std::size_t i = 0; i < moving_.size(); ++i) frame.positions[i] = positions[moving_[i]];
-    normals_.compute(positions, frame.normals);
+    if (normals_built_) normals_.compute(positions, frame.normals);
     for (std::size_t i = 0; i < frame.positions.size(); ++i) {
         for (int c = 0; c < 3; ++c) {
             frame.positions_f32[3 * i + c] = static_cast<float>(frame.positions[i][c]);

@@ -36,7 +36,11 @@ struct Frame {
     // written: a reader that recomputes it knows the frame is whole.
     std::uint64_t checksum = 0;
     std::vector<glm::dvec3> positions;  // one per AsyncSession::moving() vertex
-    std::vector<glm::dvec3> normals;    // one per AsyncSession::normal_vertices() vertex
+    // The vertices whose normals the edit changes, ascending, and their
+    // normals; both empty before the set-up has ended (every normal is
+    // then the rest pose's).
+    std::span<const std::uint32_t> normal_vertices;
+    std::vector<glm::dvec3> normals;
     // The same in single precision, x y z per vertex, ready for a GPU upload.
     std::vector<float> positions_f32;
     std::vector<float> normals_f32;
@@ -73,8 +77,8 @@ public:
         FrameHook on_frame;
     };
 
-    // `roi` is the region the session edits (ascending); frames carry the
-    // positions of all its vertices. `handle_vertices` are the set-up's,
+    // `roi` is the region the session edits (ascending, no repeats);
+    // frames carry the positions of all its vertices. `handle_vertices` are the set-up's,
     // in order. `model` must outlive the AsyncSession.
     static Status create(const MeshModel& model, std::span<const std::uint32_t> roi,
                          std::span<const std::uint32_t> handle_vertices, Setup setup, Start start,
@@ -163,12 +167,18 @@ public:
     bool holding() const;
 
     static constexpr std::chrono::milliseconds preview_interval{8};
+    // After its last piece of work the worker looks for new targets every
+    // idle_poll_interval for idle_poll_window before it sleeps until woken.
+    // A submit while it looks makes no system call: waking a sleeping
+    // thread costs the submitting thread several microseconds, which a host
+    // pays in its frame; the looking costs the worker a wake-up per
+    // interval, and a new drag's first submit pays the wake-up once.
+    static constexpr std::chrono::microseconds idle_poll_interval{200};
+    static constexpr std::chrono::milliseconds idle_poll_window{100};
 
     // The ROI, ascending (every vertex that may move is in it);
     // Frame::positions follows it.
     std::span<const std::uint32_t> moving() const { return moving_; }
-    // Vertices whose normals change with the region; Frame::normals follows it.
-    std::span<const std::uint32_t> normal_vertices() const { return normals_.vertices(); }
     std::span<const std::uint32_t> handle_vertices() const { return handle_vertices_; }
     const MeshModel& model() const { return model_; }
 
@@ -177,6 +187,8 @@ private:
     void run_worker();
     // Runs the set-up and publishes its outcome; false when it failed.
     bool set_up();
+    // Waits for queued targets or stopping_ (see idle_poll_interval).
+    void wait_for_work(std::unique_lock<std::mutex>& lock);
     // The count and finiteness of targets, checked before anything changes.
     Status check_targets(std::span<const glm::dvec3> targets) const;
     // Solves for `targets` under solve_mutex_ and publishes the frame.
@@ -197,7 +209,8 @@ private:
     std::unique_ptr<DeformSession> session_;  // set once by the worker, before preparing_ ends
     std::vector<std::uint32_t> moving_;
     std::vector<std::uint32_t> handle_vertices_;
-    RegionNormals normals_;
+    RegionNormals normals_;  // built by the set-up; then only the publisher reads it
+    bool normals_built_ = false;
 
     // Guards the queue, the generations, the set-up's outcome and the slot
     // indices; held briefly.
@@ -207,6 +220,7 @@ private:
     std::vector<glm::dvec3> queued_targets_;
     bool has_queued_ = false;
     bool stopping_ = false;
+    bool worker_polling_ = false;  // the worker looks for work by itself: no wake-up needed
     bool preparing_ = true;
     Status setup_status_;
     std::uint64_t first_generation_ = 0;

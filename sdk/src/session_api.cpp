@@ -469,10 +469,10 @@ dfm_result read_whole(const char* fn, dfm_session* session, const dfm_vec3_outpu
         }
         const std::span<const glm::dvec3> rest =
             normals ? std::span<const glm::dvec3>(rest_normals(*s)) : model.mesh.positions;
-        const std::span<const std::uint32_t> changing =
-            normals ? s->async->normal_vertices() : s->async->moving();
         write_vec3_range(*out, 0, rest);
         s->async->read([&](const deform::Frame& f) {
+            const std::span<const std::uint32_t> changing =
+                normals ? f.normal_vertices : s->async->moving();
             const std::vector<glm::dvec3>& values = normals ? f.normals : f.positions;
             for (std::size_t i = 0; i < changing.size(); ++i) {
                 write_vec3(*out, changing[i], values[i]);
@@ -541,7 +541,7 @@ extern "C" DFM_API dfm_result dfm_session_acquire_frame(dfm_session* session, df
         out->roi_vertices = s->async->moving().data();
         out->roi_count = frame->positions.size();
         out->normals = frame->normals_f32.data();
-        out->normal_vertices = s->async->normal_vertices().data();
+        out->normal_vertices = frame->normal_vertices.data();
         out->normal_count = frame->normals.size();
         fill_info(*frame, info);
         return DFM_OK;

@@ -171,7 +171,7 @@ typedef enum dfm_log_id {
 typedef void (*dfm_log_fn)(void* user, dfm_log_level level, dfm_log_id id, const char* message);
 
 typedef struct dfm_context_desc {
-    uint32_t struct_size;    /* sizeof(dfm_context_desc); see the conventions */
+    uint32_t struct_size; /* sizeof(dfm_context_desc); see the conventions */
     /* DFM_VERSION of the header the caller was built with: the context is
      * refused (DFM_ERROR_UNSUPPORTED) unless dfm_version_compatible(). 0:
      * not checked. */
@@ -383,8 +383,7 @@ typedef struct dfm_frame_info dfm_frame_info;
  * solve, set_solver, bake or destroy on the same session (they wait for
  * the thread that is running the callback). Keep it short: the worker
  * does not solve while it runs. */
-typedef void (*dfm_frame_ready_fn)(void* user, dfm_session* session,
-                                   const dfm_frame_info* info);
+typedef void (*dfm_frame_ready_fn)(void* user, dfm_session* session, const dfm_frame_info* info);
 
 typedef struct dfm_session_desc {
     uint32_t struct_size; /* sizeof(dfm_session_desc); see the conventions */
@@ -472,8 +471,8 @@ DFM_API dfm_result dfm_session_poll(dfm_session* session, uint64_t known_generat
 
 /* Waits (no spinning) until the set-up has ended and a finished frame of
  * generation >= `generation` is published: DFM_OK. Generation 0 (or, after a
- * bake, the baked frame's) waits for the set-up alone. DFM_ERROR_CANCELLED if that generation was cancelled,
- * DFM_ERROR_BUSY on timeout (timeout_ms < 0: no limit). `out` may be NULL. */
+ * bake, the baked frame's) waits for the set-up alone. DFM_ERROR_CANCELLED if that generation was
+ * cancelled, DFM_ERROR_BUSY on timeout (timeout_ms < 0: no limit). `out` may be NULL. */
 DFM_API dfm_result dfm_session_wait(dfm_session* session, uint64_t generation, int64_t timeout_ms,
                                     dfm_frame_info* out);
 
@@ -502,7 +501,7 @@ typedef struct dfm_frame_view {
     size_t roi_count;
     const float* normals;            /* x y z unit normal per entry of normal_vertices */
     const uint32_t* normal_vertices; /* every vertex whose normal the edit changes */
-    size_t normal_count;
+    size_t normal_count;             /* 0 while the session is preparing */
 } dfm_frame_view;
 
 /* Lends the newest frame: the cheapest read, constant time whatever the ROI
