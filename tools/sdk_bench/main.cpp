@@ -14,7 +14,8 @@
 //   - a 60 Hz drag of F frames (default 120): per frame, the latency from
 //     submitting new targets to the first finished frame of that generation
 //     or newer (a second thread blocks in dfm_session_wait);
-//   - cancel and destroy issued 5 ms into a long solve: time to return.
+//   - cancel and destroy issued 5 ms into a long solve, and destroy right
+//     after create (during the set-up): time to return.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -306,8 +307,16 @@ int main(int argc, char** argv) {
         cancel_ms.push_back(ms_since(t));
     }
     dfm_session_destroy(s);
+    std::vector<double> destroy_in_setup_ms;
+    for (int round = 0; round < 3; ++round) {
+        dfm_session* early = start(e, slow);
+        const auto t = Clock::now();
+        dfm_session_destroy(early);
+        destroy_in_setup_ms.push_back(ms_since(t));
+    }
     for (int round = 0; round < 3; ++round) {
         dfm_session* victim = start(e, slow);
+        check(dfm_session_wait(victim, 0, -1, nullptr), "wait for the set-up");
         double m[16];
         translation(0.1 * diag, 0.0, 0.0, m);
         check(dfm_session_set_group_transform(victim, 0, m), "set_group_transform");
@@ -339,6 +348,7 @@ int main(int argc, char** argv) {
         json("finished_solve", stats_of(finished_iterations), "iterations"),
         json("cancel", stats_of(cancel_ms), "ms"),
         json("destroy", stats_of(destroy_ms), "ms"),
+        json("destroy_during_setup", stats_of(destroy_in_setup_ms), "ms"),
     };
     for (const std::string& field : fields) std::printf(",\n %s", field.c_str());
     std::printf("}\n");
