@@ -229,6 +229,76 @@ extern "C" DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh,
     });
 }
 
+extern "C" DFM_API dfm_result dfm_mesh_read_indices16(const dfm_mesh* mesh, uint16_t* indices,
+                                                      size_t capacity) {
+    constexpr const char* fn = "dfm_mesh_read_indices16";
+    return guarded(fn, [&] {
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (indices == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "indices is NULL");
+        const auto model = m->state->current();
+        if (model->mesh.vertex_count() > 65536) {
+            return report(fn, DFM_ERROR_OUT_OF_RANGE,
+                          "the mesh has " + std::to_string(model->mesh.vertex_count()) +
+                              " vertices, more than 16-bit indices reach (65,536)");
+        }
+        const auto& triangles = model->mesh.triangles;
+        if (capacity < 3 * triangles.size()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "room for " + std::to_string(capacity) + " indices, " +
+                              std::to_string(3 * triangles.size()) + " needed");
+        }
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
+            for (int c = 0; c < 3; ++c) {
+                indices[3 * t + c] = static_cast<std::uint16_t>(triangles[t][c]);
+            }
+        }
+        return DFM_OK;
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_set_positions(dfm_mesh* mesh,
+                                                     const dfm_vec3_input* positions) {
+    constexpr const char* fn = "dfm_mesh_set_positions";
+    return guarded(fn, [&] {
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (std::string e = check_vec3_input(positions, "positions"); !e.empty()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
+        }
+        const auto model = m->state->current();
+        if (positions->count != model->mesh.vertex_count()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "positions->count is " + std::to_string(positions->count) +
+                              ", the mesh has " + std::to_string(model->mesh.vertex_count()) +
+                              " vertices");
+        }
+        std::vector<glm::dvec3> xyz(positions->count);
+        for (std::size_t v = 0; v < xyz.size(); ++v) {
+            xyz[v] = read_vec3(*positions, v);
+            if (!std::isfinite(xyz[v].x) || !std::isfinite(xyz[v].y) || !std::isfinite(xyz[v].z)) {
+                return report(fn, DFM_ERROR_NUMERICAL,
+                              "vertex " + std::to_string(v) + " is not finite; nothing changed");
+            }
+        }
+        auto posed = std::allocate_shared<deform::MeshModel>(
+            HostAllocator<deform::MeshModel>(m->state->context->allocator));
+        if (Status s = deform::bake_positions(*model, xyz, *posed); !s) return report(fn, s);
+        MeshState& state = *m->state;
+        std::lock_guard<std::mutex> lock(state.mutex);
+        if (state.model != model) {
+            return report(fn, DFM_ERROR_BUSY,
+                          "the rest pose changed (a bake, an undo or another update) during the "
+                          "call; nothing changed");
+        }
+        state.undo.reserve(state.undo.size() + 1);
+        state.undo.push_back(state.model);
+        state.redo.clear();
+        state.model = std::move(posed);
+        return DFM_OK;
+    });
+}
+
 namespace {
 
 // Undo and redo: the current rest pose goes on one history stack and the top

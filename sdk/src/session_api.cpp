@@ -485,6 +485,86 @@ dfm_result read_whole(const char* fn, dfm_session* session, const dfm_vec3_outpu
 
 }  // namespace
 
+namespace {
+
+// What struct_size 0 stands for: dfm_vertex_output as version 0.2 had it.
+constexpr std::size_t vertex_output_0_2 = DFM_END_OF(dfm_vertex_output, changed_only);
+
+void put_float3(const dfm_vertex_output& out, std::size_t vertex, std::size_t offset,
+                const float* xyz) {
+    std::memcpy(static_cast<char*>(out.data) + vertex * out.stride + offset, xyz,
+                3 * sizeof(float));
+}
+
+void put_vec3(const dfm_vertex_output& out, std::size_t vertex, std::size_t offset,
+              const glm::dvec3& v) {
+    const float xyz[3] = {static_cast<float>(v.x), static_cast<float>(v.y),
+                          static_cast<float>(v.z)};
+    put_float3(out, vertex, offset, xyz);
+}
+
+}  // namespace
+
+extern "C" DFM_API dfm_result dfm_session_read_vertices(dfm_session* session,
+                                                        const dfm_vertex_output* out,
+                                                        dfm_frame_info* info) {
+    constexpr const char* fn = "dfm_session_read_vertices";
+    return guarded(fn, [&] {
+        if (info != nullptr) *info = dfm_frame_info{};
+        dfm_result r = DFM_OK;
+        SessionObject* s = session_of(fn, session, r);
+        if (s == nullptr) return r;
+        dfm_vertex_output o;
+        if (r = read_descriptor(fn, "out", out, vertex_output_0_2, o); r != DFM_OK) return r;
+        const deform::MeshModel& model = s->async->model();
+        const std::size_t n = model.mesh.vertex_count();
+        if (o.data == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out->data is NULL");
+        if (!o.write_positions && !o.write_normals) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "out asks for neither positions nor normals");
+        }
+        if (o.count < n) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "out->count is " + std::to_string(o.count) + ", the mesh has " +
+                              std::to_string(n) + " vertices");
+        }
+        const std::size_t field = 3 * sizeof(float);
+        if ((o.write_positions && o.position_offset > o.stride - std::min(o.stride, field)) ||
+            (o.write_normals && o.normal_offset > o.stride - std::min(o.stride, field)) ||
+            o.stride < field) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "out->stride " + std::to_string(o.stride) +
+                              " does not hold 12 bytes at each offset written");
+        }
+        if (!o.changed_only) {
+            if (o.write_positions) {
+                for (std::size_t v = 0; v < n; ++v) {
+                    put_vec3(o, v, o.position_offset, model.mesh.positions[v]);
+                }
+            }
+            if (o.write_normals) {
+                const std::vector<glm::dvec3>& rest = rest_normals(*s);
+                for (std::size_t v = 0; v < n; ++v) put_vec3(o, v, o.normal_offset, rest[v]);
+            }
+        }
+        const std::span<const std::uint32_t> moving = s->async->moving();
+        s->async->read([&](const deform::Frame& f) {
+            if (o.write_positions) {
+                for (std::size_t i = 0; i < moving.size(); ++i) {
+                    put_float3(o, moving[i], o.position_offset, &f.positions_f32[3 * i]);
+                }
+            }
+            if (o.write_normals) {
+                for (std::size_t i = 0; i < f.normal_vertices.size(); ++i) {
+                    put_float3(o, f.normal_vertices[i], o.normal_offset, &f.normals_f32[3 * i]);
+                }
+            }
+            fill_info(f, info);
+        });
+        return DFM_OK;
+    });
+}
+
 extern "C" DFM_API dfm_result dfm_session_read_positions(dfm_session* session,
                                                          const dfm_vec3_output* out,
                                                          dfm_frame_info* info) {

@@ -255,6 +255,20 @@ DFM_API dfm_result dfm_mesh_read_indices(const dfm_mesh* mesh, uint32_t* indices
 /* Area-weighted unit vertex normals of the rest pose. Thread-safe. */
 DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh, const dfm_vec3_output* out);
 
+/* The same as dfm_mesh_read_indices in 16 bits, for meshes of at most 65,536
+ * vertices (DFM_ERROR_OUT_OF_RANGE otherwise, writing nothing). Thread-safe. */
+DFM_API dfm_result dfm_mesh_read_indices16(const dfm_mesh* mesh, uint16_t* indices,
+                                           size_t capacity);
+
+/* Replaces the rest pose with the host's positions (vertex_count of them;
+ * the triangles stay), as a new step of the bake history: undo brings the
+ * previous pose back, and what could be redone is forgotten. Sessions
+ * created before keep editing the shape they started from and can no longer
+ * bake (DFM_ERROR_BUSY, as after another session's bake): create new ones.
+ * A non-finite position is DFM_ERROR_NUMERICAL (the message names the
+ * vertex) and changes nothing. Thread-safe. */
+DFM_API dfm_result dfm_mesh_set_positions(dfm_mesh* mesh, const dfm_vec3_input* positions);
+
 /* Takes back the last bake: the rest pose before it returns. Sessions created
  * before keep working on the shape they started from, but can no longer
  * bake. DFM_ERROR_NOT_FOUND when there is nothing to undo. Thread-safe. */
@@ -491,6 +505,31 @@ DFM_API dfm_result dfm_session_read_normals(dfm_session* session, const dfm_vec3
  * stride 0 the bytes are exactly those the frame's checksum covers. */
 DFM_API dfm_result dfm_session_read_roi_positions(dfm_session* session, const dfm_vec3_output* out,
                                                   dfm_frame_info* info);
+
+/* The host's own vertex buffer, interleaved: vertex i starts at
+ * (char*)data + i * stride; its position (float x y z) lies at
+ * position_offset within it and its unit normal (float x y z) at
+ * normal_offset. Other bytes are never touched. */
+typedef struct dfm_vertex_output {
+    uint32_t struct_size; /* sizeof(dfm_vertex_output); see the conventions */
+    void* data;
+    size_t count;  /* capacity in vertices: at least the mesh's vertex_count */
+    size_t stride; /* at least 12 bytes past each field written */
+    size_t position_offset;
+    size_t normal_offset;
+    bool write_positions;
+    bool write_normals;
+    /* Only what the session can change: the ROI's positions and the normals
+     * the edit changes; the host keeps the rest from an earlier full read. */
+    bool changed_only;
+} dfm_vertex_output;
+
+/* Writes the newest frame's positions and normals into the host's
+ * interleaved buffer in one call, both from the same frame (rest values
+ * for the vertices the session does not move, unless changed_only), and
+ * its info into `info` (may be NULL). Thread safety as the other reads. */
+DFM_API dfm_result dfm_session_read_vertices(dfm_session* session, const dfm_vertex_output* out,
+                                             dfm_frame_info* info);
 
 /* A frame lent to the host without copying: the newest frame's arrays, valid
  * until dfm_session_release_frame. All pointers belong to the session. */
