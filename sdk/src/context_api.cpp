@@ -37,7 +37,7 @@ using namespace dfm::sdk;
 namespace {
 
 // What struct_size 0 stands for: dfm_context_desc as version 0.2 had it.
-constexpr std::size_t context_desc_0_2 = DFM_END_OF(dfm_context_desc, worker_count);
+constexpr std::size_t context_desc_0_2 = DFM_END_OF(dfm_context_desc, pick_thread_count);
 
 }  // namespace
 
@@ -75,6 +75,11 @@ extern "C" DFM_API dfm_result dfm_context_create(const dfm_context_desc* desc, d
             return report(fn, DFM_ERROR_INVALID_ARGUMENT,
                           "allocator: give both alloc and free, or neither");
         }
+        if (d.pick_thread_count > 1024) {
+            return report(
+                fn, DFM_ERROR_INVALID_ARGUMENT,
+                "pick_thread_count " + std::to_string(d.pick_thread_count) + " is above 1024");
+        }
         if (d.worker_count > 256) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT,
                           "worker_count " + std::to_string(d.worker_count) + " is above 256");
@@ -84,6 +89,7 @@ extern "C" DFM_API dfm_result dfm_context_create(const dfm_context_desc* desc, d
         state->log = d.log;
         state->log_user = d.log_user;
         state->worker_count = d.worker_count == 0 ? 1 : d.worker_count;
+        state->pick_thread_count = d.pick_thread_count;
         *out = host_new<ContextObject>(*state, std::shared_ptr<const ContextState>(state));
         return DFM_OK;
     });

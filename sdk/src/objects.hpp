@@ -31,6 +31,7 @@ struct ContextState {
     dfm_log_fn log = nullptr;
     void* log_user = nullptr;
     std::uint32_t worker_count = 1;
+    std::uint32_t pick_thread_count = 0;  // Embree's device; 0: Embree's default
 
     void* allocate(std::size_t size, std::size_t alignment) const {
         return host_allocate(allocator, size, alignment);

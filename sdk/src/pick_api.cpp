@@ -26,8 +26,8 @@ Status with_scene(MeshState& state, const std::function<Status(const pick::Embre
     std::lock_guard<std::mutex> lock(state.mutex);
     const deform::MeshModel& model = *state.model;
     if (state.scene.empty()) {
-        if (Status s =
-                pick::EmbreeScene::create(model.mesh.positions, model.mesh.triangles, state.scene);
+        if (Status s = pick::EmbreeScene::create(model.mesh.positions, model.mesh.triangles,
+                                                 state.scene, state.context->pick_thread_count);
             !s) {
             return s;
         }

@@ -3,7 +3,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "dualform/dualform.h"
@@ -172,4 +175,63 @@ TEST_CASE("host buffers: the host updates the rest pose; earlier sessions are to
     CHECK(dfm_mesh_set_positions(limb.mesh, &short_in) == DFM_ERROR_INVALID_ARGUMENT);
     REQUIRE(dfm_mesh_read_positions(limb.mesh, &out_now) == DFM_OK);
     CHECK(now == rest);
+}
+
+namespace {
+
+// How many of this process's threads carry `name`.
+int threads_named(const std::string& name) {
+    int count = 0;
+    for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+        std::ifstream comm(task.path() / "comm");
+        std::string line;
+        if (std::getline(comm, line) && line == name) ++count;
+    }
+    return count;
+}
+
+}  // namespace
+
+TEST_CASE("threads: each session starts one named worker and worker_count - 1 solver threads") {
+    const int sessions_before = threads_named("dfm-session");
+    const int solvers_before = threads_named("dfm-solver");
+    dfm_context_desc desc = {};
+    desc.struct_size = sizeof desc;
+    desc.worker_count = 3;
+    desc.pick_thread_count = 1;
+    dfm_context* context = nullptr;
+    REQUIRE(dfm_context_create(&desc, &context) == DFM_OK);
+    const dfm::mesh::Mesh shape = make_limb(16, 20, 0.2, 2.0);
+    dfm_mesh* mesh = make_c_mesh(context, shape);
+    std::vector<std::uint32_t> region, tip;
+    for (std::uint32_t v = 0; v < shape.vertex_count(); ++v) {
+        if (shape.positions[v].y > 0.5) region.push_back(v);
+        if (shape.positions[v].y >= 1.8) tip.push_back(v);
+    }
+    dfm_roi* roi = nullptr;
+    REQUIRE(dfm_roi_from_vertices(mesh, region.data(), region.size(), &roi) == DFM_OK);
+    const dfm_handle_group group = {tip.data(), tip.size()};
+    dfm_session_desc sd = {};
+    sd.roi = roi;
+    sd.groups = &group;
+    sd.group_count = 1;
+    dfm_session* session = nullptr;
+    REQUIRE(dfm_session_create(mesh, &sd, &session) == DFM_OK);
+    REQUIRE(dfm_session_wait(session, 0, -1, nullptr) == DFM_OK);
+    CHECK(threads_named("dfm-session") == sessions_before + 1);
+    CHECK(threads_named("dfm-solver") == solvers_before + 2);
+    // Picking with a one-thread Embree device works as with the default.
+    const double origin[3] = {0, 10, 0}, down[3] = {0, -1, 0};
+    dfm_hit hit = {};
+    REQUIRE(dfm_mesh_pick_ray(mesh, origin, down, &hit) == DFM_OK);
+    CHECK(hit.hit);
+    dfm_session_destroy(session);
+    CHECK(threads_named("dfm-session") == sessions_before);
+    CHECK(threads_named("dfm-solver") == solvers_before);
+    desc.pick_thread_count = 5000;
+    dfm_context* refused = nullptr;
+    CHECK(dfm_context_create(&desc, &refused) == DFM_ERROR_INVALID_ARGUMENT);
+    dfm_roi_destroy(roi);
+    dfm_mesh_destroy(mesh);
+    dfm_context_destroy(context);
 }

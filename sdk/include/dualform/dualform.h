@@ -180,8 +180,15 @@ typedef struct dfm_context_desc {
     dfm_log_fn log;          /* NULL: no logging */
     void* log_user;
     /* Threads each session's solver uses for its factor and solves, its
-     * worker thread included; 0 means 1. Results do not depend on it. */
+     * worker thread included; 0 means 1. Results do not depend on it. A
+     * session starts its worker ("dfm-session") and worker_count - 1
+     * solver threads ("dfm-solver"), and stops them when destroyed. */
     uint32_t worker_count;
+    /* Threads of the Embree device that picking builds (once per mesh, on
+     * the first pick or click fill): 1 keeps the build on the calling
+     * thread; 0 lets Embree start one per hardware thread (its default,
+     * named by Embree). At most 1024. */
+    uint32_t pick_thread_count;
 } dfm_context_desc;
 
 /* Creates a context; desc may be NULL for all defaults. *out receives the
