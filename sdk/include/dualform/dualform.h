@@ -137,13 +137,16 @@ typedef struct dfm_vec3_output {
 
 typedef struct dfm_context dfm_context;
 
-/* Host memory hooks for every object the C API creates (contexts, meshes,
- * ROIs, sessions). alloc returns memory aligned to `alignment` (a power of two
- * up to 64) or NULL on failure, which the call reports as
- * DFM_ERROR_OUT_OF_MEMORY. free receives the size that was allocated. The
- * engine's working arrays use the C++ global allocator; its failures are
- * reported the same way. Both hooks may be called from any thread,
- * including session workers. */
+/* Host memory hooks. They serve exactly: the object behind every handle
+ * (context, mesh, ROI, session), the context's and each mesh's state
+ * record, and each rest-pose model record (not its arrays). Every array
+ * (positions, triangles, adjacency, ROIs, the solver's rows and factor,
+ * frames, the pick scene) comes from the C++ global allocator (operator
+ * new, which a host may replace); its failures are reported the same way.
+ * alloc returns memory aligned to `alignment` (a power of two up to 64) or
+ * NULL on failure, which the call reports as DFM_ERROR_OUT_OF_MEMORY. free
+ * receives the size that was allocated. Both hooks may be called from any
+ * thread, including session workers. */
 typedef struct dfm_allocator {
     void* (*alloc)(void* user, size_t size, size_t alignment);
     void (*free)(void* user, void* memory, size_t size);
