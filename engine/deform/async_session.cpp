@@ -56,7 +56,13 @@ Status AsyncSession::create(const MeshModel& model, std::span<const std::uint32_
         s->first_generation_ = start.first_generation;
         s->next_generation_ = std::max(start.first_generation, start.submitted_through) + 1;
         s->cancelled_through_ = s->next_generation_ - 1;
-        s->publish(start.first_generation, SolveReport{}, Errc::ok, false);
+        // The start frame has a slot of its own, sized here; the set-up
+        // sizes the others, so no later publish allocates.
+        Frame& first = s->frames_[start_slot];
+        s->size_frame(first);
+        s->write_frame(first, start.first_generation, SolveReport{}, Errc::ok, false, true);
+        s->newest_generation_ = start.first_generation;
+        s->newest_finished_ = start.first_generation;
         s->on_frame_ = std::move(start.on_frame);
         s->worker_ = std::thread([raw = s.get()] { raw->run_worker(); });
         out = std::move(s);
@@ -197,6 +203,8 @@ bool AsyncSession::set_up() {
     try {
         normals_.build(model_, moving_);
         normals_built_ = true;
+        // Only the start frame can be read while the set-up runs.
+        for (int slot = 0; slot < start_slot; ++slot) size_frame(frames_[slot]);
         built = setup_(session);
         if (built && !session) built = Status(Errc::internal, "the set-up made no session");
     } catch (const std::bad_alloc&) {
@@ -349,14 +357,31 @@ void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, 
         preparing = preparing_;
     }
     Frame& frame = frames_[slot];
-    // A slot's arrays are sized on its first use (and once more when the
-    // normals appear), so that creating a session allocates one frame.
+    write_frame(frame, generation, report, status, partial, preparing);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        front_ = slot;
+        newest_generation_ = generation;
+        if (!partial) {
+            finished_ = slot;
+            newest_finished_ = generation;
+        }
+    }
+    frame_ready_.notify_all();
+    if (on_frame_) on_frame_(frame);
+}
+
+void AsyncSession::size_frame(Frame& frame) const {
     frame.positions.resize(moving_.size());
     frame.positions_f32.resize(3 * moving_.size());
     const std::size_t normal_count = normals_built_ ? normals_.vertices().size() : 0;
     frame.normals.resize(normal_count);
     frame.normals_f32.resize(3 * normal_count);
     frame.normal_vertices = normals_built_ ? normals_.vertices() : std::span<const std::uint32_t>();
+}
+
+void AsyncSession::write_frame(Frame& frame, std::uint64_t generation, const SolveReport& report,
+                               Errc status, bool partial, bool preparing) {
     const std::span<const glm::dvec3> positions = current_positions();
     for (std::size_t i = 0; i < moving_.size(); ++i) frame.positions[i] = positions[moving_[i]];
     if (normals_built_) normals_.compute(positions, frame.normals);
@@ -377,17 +402,6 @@ void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, 
     frame.status = status;
     frame.checksum = frame_checksum(frame.positions);
     last_publish_ = std::chrono::steady_clock::now();
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        front_ = slot;
-        newest_generation_ = generation;
-        if (!partial) {
-            finished_ = slot;
-            newest_finished_ = generation;
-        }
-    }
-    frame_ready_.notify_all();
-    if (on_frame_) on_frame_(frame);
 }
 
 }  // namespace dfm::deform

@@ -58,8 +58,10 @@ std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
 // while it runs, an iterate is published as a partial frame at most every
 // preview_interval. Frames live in five slots: the newest, the newest
 // finished (kept for a bake while previews follow it), the one the worker
-// writes, one a reader copies and one a host holds as a view; no side waits
-// for another beyond swapping indices, and no frame is ever torn.
+// writes, one a reader copies and one a host holds as a view (and a sixth
+// holds the start frame until the first is published); no side waits for
+// another beyond swapping indices, no frame is ever torn, and after the
+// set-up no publish allocates.
 class AsyncSession {
 public:
     // Builds the session on the worker; what it throws is reported as the
@@ -197,6 +199,11 @@ private:
     // The session's positions, or the rest pose before a set-up.
     std::span<const glm::dvec3> current_positions() const;
     void publish(std::uint64_t generation, const SolveReport& report, Errc status, bool partial);
+    // Sizes a slot's arrays for the ROI and (once built) the normals.
+    void size_frame(Frame& frame) const;
+    // Fills a sized slot from the session's current positions.
+    void write_frame(Frame& frame, std::uint64_t generation, const SolveReport& report, Errc status,
+                     bool partial, bool preparing);
     // Publishes the last good positions with a failure status, so a host
     // waiting for `generation` hears of it.
     void publish_failure(std::uint64_t generation, Errc status);
@@ -229,11 +236,13 @@ private:
     std::uint64_t cancelled_through_ = 0;
     std::uint64_t newest_generation_ = 0;
     std::uint64_t newest_finished_ = 0;
-    int front_ = 0;
-    int finished_ = 0;
+    // Slots 0-4 take turns; the start frame has the last one to itself.
+    static constexpr int start_slot = 5;
+    int front_ = start_slot;
+    int finished_ = start_slot;
     int reading_ = -1;
     int held_ = -1;
-    std::array<Frame, 5> frames_;
+    std::array<Frame, 6> frames_;
 
     // Held by whoever runs the DeformSession: the worker or solve_now.
     std::mutex solve_mutex_;

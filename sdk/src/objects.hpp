@@ -119,6 +119,10 @@ struct SessionObject {
     std::vector<glm::dvec3> staged;
     std::vector<glm::dvec3> handle_rest;
     std::vector<std::size_t> group_offsets;  // group g: [offsets[g], offsets[g + 1])
+    // What dfm_session_solve solves: the staged targets, copied out so that
+    // the solve holds no staging lock, into memory set up with the session.
+    std::mutex solving_mutex;
+    std::vector<glm::dvec3> solving;
     // Of the whole rest pose, computed on the first whole-mesh normal read.
     std::mutex rest_normals_mutex;
     std::vector<glm::dvec3> rest_normals;

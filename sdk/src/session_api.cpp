@@ -133,6 +133,7 @@ Status start_worker(SessionObject& s, std::shared_ptr<const deform::MeshModel> m
         s.async = std::move(async);
         s.model = std::move(model);
         s.staged = handle_rest;
+        s.solving = handle_rest;
         s.handle_rest = std::move(handle_rest);
     }
     std::lock_guard<std::mutex> lock(s.rest_normals_mutex);
@@ -360,13 +361,13 @@ extern "C" DFM_API dfm_result dfm_session_solve(dfm_session* session, uint64_t* 
         dfm_result r = DFM_OK;
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
-        std::vector<glm::dvec3> targets;
+        std::lock_guard<std::mutex> solving(s->solving_mutex);
         {
             std::lock_guard<std::mutex> lock(s->staging_mutex);
-            targets = s->staged;
+            std::copy(s->staged.begin(), s->staged.end(), s->solving.begin());
         }
         std::uint64_t g = 0;
-        const Status st = s->async->solve_now(targets, g);
+        const Status st = s->async->solve_now(s->solving, g);
         if (generation != nullptr) *generation = g;
         const auto& context = *s->mesh->context;
         if (!st) {
@@ -675,7 +676,8 @@ dfm_result bake(const char* fn, dfm_session* session, std::uint64_t generation) 
                               " is not the newest finished frame (that is generation " +
                               std::to_string(newest) + ")");
         }
-        auto baked = std::make_shared<deform::MeshModel>();
+        auto baked = std::allocate_shared<deform::MeshModel>(
+            HostAllocator<deform::MeshModel>(mesh.context->allocator));
         if (Status st = deform::bake_positions(*s->model, positions, *baked); !st) {
             return report(fn, st);
         }
