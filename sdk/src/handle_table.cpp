@@ -24,12 +24,17 @@ HandleTable::Slot* HandleTable::slot(std::uint32_t index) const noexcept {
     return slots == nullptr ? nullptr : &slots[index % page_size];
 }
 
+HandleTable::Slot& HandleTable::made_slot(std::uint32_t index) const noexcept {
+    return pages_[index / page_size].load(std::memory_order_relaxed)[index % page_size];
+}
+
 std::uint64_t HandleTable::insert(void* object) {
     std::lock_guard<std::mutex> lock(mutex_);
     std::uint32_t index = 0;
-    if (!free_.empty()) {
-        index = free_.front();
-        free_.pop_front();
+    if (free_head_ != none) {
+        index = free_head_;
+        free_head_ = made_slot(index).next_free;
+        if (free_head_ == none) free_tail_ = none;
     } else {
         if (used_ == page_size * max_pages) throw std::bad_alloc();
         index = used_;
@@ -38,9 +43,9 @@ std::uint64_t HandleTable::insert(void* object) {
         }
         ++used_;
     }
-    Slot* s = slot(index);
-    s->object.store(object, std::memory_order_release);
-    return encode(kind_, index, s->generation.load(std::memory_order_relaxed));
+    Slot& s = made_slot(index);
+    s.object.store(object, std::memory_order_release);
+    return encode(kind_, index, s.generation.load(std::memory_order_relaxed));
 }
 
 void* HandleTable::find(std::uint64_t handle) const noexcept {
@@ -61,14 +66,16 @@ void* HandleTable::erase(std::uint64_t handle) noexcept {
     void* object = find(handle);
     if (object == nullptr) return nullptr;
     const auto index = static_cast<std::uint32_t>((handle & index_mask) - 1);
-    Slot* s = slot(index);
-    s->generation.fetch_add(1, std::memory_order_acq_rel);
-    s->object.store(nullptr, std::memory_order_release);
-    try {
-        free_.push_back(index);
-    } catch (...) {
-        // The slot is retired: its handle stays refused, it is just not reused.
+    Slot& s = made_slot(index);
+    s.generation.fetch_add(1, std::memory_order_acq_rel);
+    s.object.store(nullptr, std::memory_order_release);
+    s.next_free = none;
+    if (free_tail_ == none) {
+        free_head_ = index;
+    } else {
+        made_slot(free_tail_).next_free = index;
     }
+    free_tail_ = index;
     return object;
 }
 

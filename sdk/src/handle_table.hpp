@@ -9,7 +9,6 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
-#include <deque>
 #include <mutex>
 
 namespace dfm::sdk {
@@ -31,21 +30,28 @@ public:
     void* erase(std::uint64_t handle) noexcept;
 
 private:
+    static constexpr std::uint32_t none = 0xFFFFFFFFu;
     struct Slot {
         std::atomic<std::uint32_t> generation{1};
         std::atomic<void*> object{nullptr};
+        std::uint32_t next_free = none;  // under mutex_
     };
     static constexpr std::size_t page_size = 1024;
     static constexpr std::size_t max_pages = 1u << 14;  // 16M live objects per kind
 
+    // The slot of an index a handle names: null when it was never made.
     Slot* slot(std::uint32_t index) const noexcept;
+    // The slot of an index the table has made (under mutex_).
+    Slot& made_slot(std::uint32_t index) const noexcept;
 
     Kind kind_;
     std::array<std::atomic<Slot*>, max_pages> pages_{};
     std::mutex mutex_;  // creation and destruction only
     std::uint32_t used_ = 0;
-    // Oldest freed first, so a slot comes back as late as possible.
-    std::deque<std::uint32_t> free_;
+    // Freed slots, oldest first, so a slot comes back as late as possible;
+    // linked through the slots, so destroying never allocates.
+    std::uint32_t free_head_ = none;
+    std::uint32_t free_tail_ = none;
 };
 
 // The table of each kind. Never destroyed: hosts may destroy handles from
