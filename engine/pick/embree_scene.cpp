@@ -101,8 +101,9 @@ Status EmbreeScene::create(std::span<const glm::dvec3> positions,
         auto impl = std::make_unique<Impl>();
         impl->positions.assign(positions.begin(), positions.end());
         impl->triangles.assign(triangles.begin(), triangles.end());
-        const std::string config = "threads=" + std::to_string(thread_count);
-        impl->device = rtcNewDevice(config.c_str());
+        const std::string config =
+            thread_count == 0 ? std::string() : "threads=" + std::to_string(thread_count);
+        impl->device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
         if (!impl->device) {
             return Status(Errc::unsupported,
                           "pick scene: Embree cannot create a device (error code " +
