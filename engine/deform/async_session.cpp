@@ -357,6 +357,8 @@ void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, 
         preparing = preparing_;
     }
     Frame& frame = frames_[slot];
+    // Already sized by the set-up (no allocation) unless it ran out of memory.
+    size_frame(frame);
     write_frame(frame, generation, report, status, partial, preparing);
     {
         std::lock_guard<std::mutex> lock(mutex_);

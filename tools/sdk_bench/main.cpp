@@ -7,7 +7,9 @@
 //     the set-up then runs on the session's worker (until dfm_session_wait
 //     for generation 0 returns), over 5 sessions;
 //   - submit alone on a small ROI (about 1000 vertices) whose worker is
-//     idle, asleep for 2 ms before each submit: the cost of waking it;
+//     idle, asleep for 2 ms before each submit: the cost of waking it; and
+//     the CPU the idle worker uses while it looks for work (other threads'
+//     CPU time over 90 ms with nothing submitted, in percent of one core);
 //   - set_group_transform + submit, submit alone, poll, read_roi_positions
 //     (float) and read_positions (whole mesh), each timed per call while the
 //     worker is busy solving;
@@ -40,6 +42,13 @@ using Clock = std::chrono::steady_clock;
 double thread_cpu_ms() {
     timespec t{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
+
+// CPU time of the whole process.
+double process_cpu_ms() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
     return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
 }
 
@@ -173,7 +182,7 @@ int main(int argc, char** argv) {
     check(dfm_session_wait(s, 0, -1, nullptr), "wait for the set-up");
 
     // Submit with the worker idle: a small ROI, solved and asleep each time.
-    std::vector<double> submit_idle_us;
+    std::vector<double> submit_idle_us, idle_poll_cpu_percent;
     {
         dfm_roi* small = nullptr;
         check(dfm_roi_ball(e.mesh, centre, 0.0, &small), "dfm_roi_ball");
@@ -196,6 +205,18 @@ int main(int argc, char** argv) {
             check(dfm_session_submit(idle, &g), "submit");
             submit_idle_us.push_back(1000.0 * ms_since(t));
             check(dfm_session_wait(idle, g, -1, nullptr), "wait");
+        }
+        // What the worker's looking for work costs: 90 ms after a solve,
+        // inside its 100 ms window, with nothing submitted.
+        for (int round = 0; round < 10; ++round) {
+            std::uint64_t g = 0;
+            check(dfm_session_submit(idle, &g), "submit");
+            check(dfm_session_wait(idle, g, -1, nullptr), "wait");
+            const auto t = Clock::now();
+            const double cpu = process_cpu_ms() - thread_cpu_ms();
+            std::this_thread::sleep_for(std::chrono::milliseconds(90));
+            idle_poll_cpu_percent.push_back(100.0 * (process_cpu_ms() - thread_cpu_ms() - cpu) /
+                                            ms_since(t));
         }
         dfm_session_destroy(idle);
         dfm_roi_destroy(small);
@@ -337,6 +358,7 @@ int main(int argc, char** argv) {
         json("create_cpu", stats_of(create_cpu_ms), "ms"),
         json("setup_on_worker", stats_of(setup_ms), "ms"),
         json("submit_idle", stats_of(submit_idle_us), "us"),
+        json("idle_worker_cpu", stats_of(idle_poll_cpu_percent), "percent"),
         json("submit_busy", stats_of(submit_busy_us), "us"),
         json("set_transform_submit", stats_of(submit_us), "us"),
         json("poll", stats_of(poll_us), "us"),

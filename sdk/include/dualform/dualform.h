@@ -405,8 +405,8 @@ typedef struct dfm_frame_info dfm_frame_info;
  * `info` lives only during the call. The callback may poll, read, acquire
  * and release frames of the session, and submit; it must not call cancel,
  * solve, set_solver, bake or destroy on the same session (they wait for
- * the thread that is running the callback). Keep it short: the worker
- * does not solve while it runs. */
+ * the thread that is running the callback), and must not throw. Keep it
+ * short: the worker does not solve while it runs. */
 typedef void (*dfm_frame_ready_fn)(void* user, dfm_session* session, const dfm_frame_info* info);
 
 typedef struct dfm_session_desc {
