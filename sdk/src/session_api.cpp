@@ -654,6 +654,7 @@ dfm_result bake(const char* fn, dfm_session* session, std::uint64_t generation) 
             return report(fn, DFM_ERROR_BUSY,
                           "the session is preparing: nothing is solved yet to bake");
         }
+        if (Status st = s->async->setup_status(); !st) return report(fn, st);
         MeshState& mesh = *s->mesh;
         if (mesh.current() != s->model) {
             return report(fn, DFM_ERROR_BUSY,

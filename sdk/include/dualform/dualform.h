@@ -573,7 +573,8 @@ DFM_API dfm_result dfm_session_release_frame(dfm_session* session);
  * generation, and the next submit a generation above every earlier one.
  * DFM_ERROR_BUSY when the mesh has changed since the session was created
  * (another bake or an undo), while a frame is held
- * (dfm_session_acquire_frame), or while the session is preparing.
+ * (dfm_session_acquire_frame), or while the session is preparing; a
+ * session whose set-up failed reports that failure.
  * Not concurrent with other calls on the session. */
 DFM_API dfm_result dfm_session_bake(dfm_session* session);
 
