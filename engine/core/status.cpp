@@ -13,6 +13,7 @@ const char* errc_name(Errc code) {
         case Errc::unsupported: return "unsupported";
         case Errc::out_of_memory: return "out of memory";
         case Errc::numerical: return "numerical failure";
+        case Errc::internal: return "internal error";
     }
     return "unknown error";
 }

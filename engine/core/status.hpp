@@ -16,6 +16,7 @@ enum class Errc {
     unsupported,
     out_of_memory,
     numerical,
+    internal,  // a defect of Dualform's, not of the caller's input
 };
 
 const char* errc_name(Errc code);

@@ -3,10 +3,34 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <new>
 #include <string>
+#include <system_error>
+
+#if defined(__linux__)
+#include <pthread.h>
+#include <sched.h>
+#endif
 
 namespace dfm::deform {
+
+namespace {
+
+// Names the worker for debuggers and profilers, and takes it out of wake-up
+// preemption: with SCHED_BATCH a submit that wakes it does not hand the
+// host's core to it (the host's frame would pay for the switch); it still
+// gets its fair share of time.
+void configure_worker_thread() {
+#if defined(__linux__)
+    pthread_setname_np(pthread_self(), "dfm-session");
+    sched_param param{};
+    param.sched_priority = 0;
+    pthread_setschedparam(pthread_self(), SCHED_BATCH, &param);
+#endif
+}
+
+}  // namespace
 
 std::uint64_t frame_checksum(std::span<const glm::dvec3> positions) {
     std::uint64_t hash = 14695981039346656037ull;
@@ -17,32 +41,29 @@ std::uint64_t frame_checksum(std::span<const glm::dvec3> positions) {
     return hash;
 }
 
-AsyncSession::AsyncSession(std::unique_ptr<DeformSession> session)
-    : session_(std::move(session)), model_(session_->model()) {}
-
-Status AsyncSession::create(std::unique_ptr<DeformSession> session,
-                            std::span<const std::uint32_t> roi,
-                            std::unique_ptr<AsyncSession>& out) {
+Status AsyncSession::create(const MeshModel& model, std::span<const std::uint32_t> roi,
+                            std::span<const std::uint32_t> handle_vertices, Setup setup,
+                            Start start, std::unique_ptr<AsyncSession>& out) {
     out.reset();
-    if (!session) return Status(Errc::invalid_argument, "no deformation session given");
+    if (!setup) return Status(Errc::invalid_argument, "no set-up given");
     try {
-        std::unique_ptr<AsyncSession> s(new AsyncSession(std::move(session)));
-        s->handle_vertices_.assign(s->session_->handle_vertices().begin(),
-                                   s->session_->handle_vertices().end());
-        s->setup_ = s->session_->setup_report();
+        std::unique_ptr<AsyncSession> s(new AsyncSession(model));
+        s->setup_ = std::move(setup);
+        s->handle_vertices_.assign(handle_vertices.begin(), handle_vertices.end());
         s->moving_.assign(roi.begin(), roi.end());
-        std::sort(s->moving_.begin(), s->moving_.end());
-        s->moving_.erase(std::unique(s->moving_.begin(), s->moving_.end()), s->moving_.end());
-        s->normals_.build(s->model_, s->moving_);
-        for (Frame& frame : s->frames_) {
-            frame.positions.resize(s->moving_.size());
-            frame.normals.resize(s->normals_.vertices().size());
-            frame.positions_f32.resize(3 * s->moving_.size());
-            frame.normals_f32.resize(3 * s->normals_.vertices().size());
-        }
         s->queued_targets_.resize(s->handle_vertices_.size());
         s->worker_targets_.resize(s->handle_vertices_.size());
-        s->publish(0, SolveReport{.converged = true}, Errc::ok, false);
+        s->first_generation_ = start.first_generation;
+        s->next_generation_ = std::max(start.first_generation, start.submitted_through) + 1;
+        s->cancelled_through_ = s->next_generation_ - 1;
+        // The start frame has a slot of its own, sized here; the set-up
+        // sizes the others, so no later publish allocates.
+        Frame& first = s->frames_[start_slot];
+        s->size_frame(first);
+        s->write_frame(first, start.first_generation, SolveReport{}, Errc::ok, false, true);
+        s->newest_generation_ = start.first_generation;
+        s->newest_finished_ = start.first_generation;
+        s->on_frame_ = std::move(start.on_frame);
         s->worker_ = std::thread([raw = s.get()] { raw->run_worker(); });
         out = std::move(s);
         return Status::ok();
@@ -86,14 +107,17 @@ Status AsyncSession::check_targets(std::span<const glm::dvec3> targets) const {
 Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
     generation = 0;
     if (Status s = check_targets(targets); !s) return s;
+    bool wake = false;
     {
         std::lock_guard<std::mutex> lock(mutex_);
+        if (!setup_status_) return setup_status_;
         std::copy(targets.begin(), targets.end(), queued_targets_.begin());
         has_queued_ = true;
         queued_generation_ = next_generation_++;
         generation = queued_generation_;
+        wake = !worker_polling_;
     }
-    work_ready_.notify_one();
+    if (wake) work_ready_.notify_one();
     return Status::ok();
 }
 
@@ -105,13 +129,20 @@ void AsyncSession::cancel() {
         interrupt_.store(true, std::memory_order_release);
     }
     frame_ready_.notify_all();
-    // The worker holds solve_mutex_ for the whole of a solve.
+    // The worker holds solve_mutex_ for the whole of a solve, not during the set-up.
     std::lock_guard<std::mutex> idle(solve_mutex_);
+}
+
+bool AsyncSession::wait_until_set_up() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    frame_ready_.wait(lock, [&] { return !preparing_; });
+    return setup_status_.is_ok();
 }
 
 Status AsyncSession::solve_now(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
     generation = 0;
     if (Status s = check_targets(targets); !s) return s;
+    if (!wait_until_set_up()) return setup_status();
     {
         std::lock_guard<std::mutex> lock(mutex_);
         has_queued_ = false;
@@ -124,22 +155,36 @@ Status AsyncSession::solve_now(std::span<const glm::dvec3> targets, std::uint64_
 AsyncSession::WaitResult AsyncSession::wait(std::uint64_t generation,
                                             std::chrono::nanoseconds timeout) {
     std::unique_lock<std::mutex> lock(mutex_);
-    const auto done = [&] {
-        return newest_finished_ >= generation || generation <= cancelled_through_;
+    // Generations up to the start frame's are the set-up's: ready once it ends.
+    const auto cancelled = [&] {
+        return generation > first_generation_ && generation <= cancelled_through_;
     };
+    const auto finished = [&] { return !preparing_ && newest_finished_ >= generation; };
+    const auto done = [&] { return finished() || cancelled(); };
     // wait_for adds the timeout to now(), which overflows for "forever".
     if (timeout == std::chrono::nanoseconds::max()) {
         frame_ready_.wait(lock, done);
     } else {
         frame_ready_.wait_for(lock, timeout, done);
     }
-    if (newest_finished_ >= generation) return WaitResult::ready;
-    return generation <= cancelled_through_ ? WaitResult::cancelled : WaitResult::timed_out;
+    if (finished()) return WaitResult::ready;
+    return cancelled() ? WaitResult::cancelled : WaitResult::timed_out;
 }
 
 Status AsyncSession::set_stopping_rule(double tolerance, int max_iterations) {
+    if (!wait_until_set_up()) return setup_status();
     std::lock_guard<std::mutex> solving(solve_mutex_);
     return session_->set_stopping_rule(tolerance, max_iterations);
+}
+
+bool AsyncSession::preparing() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return preparing_;
+}
+
+Status AsyncSession::setup_status() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return setup_status_;
 }
 
 std::uint64_t AsyncSession::newest_generation() const {
@@ -152,12 +197,72 @@ std::uint64_t AsyncSession::submitted_generation() const {
     return next_generation_ - 1;
 }
 
+SetupReport AsyncSession::setup_report() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return setup_report_;
+}
+
+bool AsyncSession::set_up() {
+    Status built;
+    std::unique_ptr<DeformSession> session;
+    try {
+        normals_.build(model_, moving_);
+        normals_built_ = true;
+        // Only the start frame can be read while the set-up runs.
+        for (int slot = 0; slot < start_slot; ++slot) size_frame(frames_[slot]);
+        built = setup_(session);
+        if (built && !session) built = Status(Errc::internal, "the set-up made no session");
+    } catch (const std::bad_alloc&) {
+        built = Status(Errc::out_of_memory, "out of memory while setting up the edit");
+    } catch (const std::exception& e) {
+        built = Status(Errc::internal, std::string("the set-up failed: ") + e.what());
+    } catch (...) {
+        built = Status(Errc::internal, "the set-up failed with an unknown exception");
+    }
+    setup_ = nullptr;
+    std::lock_guard<std::mutex> solving(solve_mutex_);
+    if (built) session_ = std::move(session);
+    std::uint64_t generation = 0;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        preparing_ = false;
+        setup_status_ = built;
+        if (built) setup_report_ = session_->setup_report();
+        generation = first_generation_;
+        // Targets queued meanwhile hear of the failure through their frame.
+        if (!built && has_queued_) {
+            generation = queued_generation_;
+            has_queued_ = false;
+        }
+    }
+    publish(generation, SolveReport{.converged = built.is_ok()}, built.code(), false);
+    return built.is_ok();
+}
+
 void AsyncSession::run_worker() {
+    configure_worker_thread();
+    bool ready = false;
+    try {
+        ready = set_up();
+    } catch (...) {
+        // Only recording the outcome can throw here (out of memory); the
+        // session then refuses work as if the set-up had failed.
+        std::lock_guard<std::mutex> lock(mutex_);
+        preparing_ = false;
+    }
+    if (!ready) {
+        std::unique_lock<std::mutex> lock(mutex_);
+        // A short message: std::string keeps it without allocating.
+        if (setup_status_) setup_status_ = Status(Errc::out_of_memory, "out of memory");
+        frame_ready_.notify_all();
+        work_ready_.wait(lock, [&] { return stopping_; });
+        return;
+    }
     for (;;) {
         std::uint64_t generation = 0;
         {
             std::unique_lock<std::mutex> lock(mutex_);
-            work_ready_.wait(lock, [&] { return stopping_ || has_queued_; });
+            wait_for_work(lock);
             if (stopping_) return;
             std::swap(queued_targets_, worker_targets_);
             generation = queued_generation_;
@@ -172,9 +277,23 @@ void AsyncSession::run_worker() {
         } catch (const std::bad_alloc&) {
             publish_failure(generation, Errc::out_of_memory);
         } catch (...) {
-            publish_failure(generation, Errc::numerical);
+            publish_failure(generation, Errc::internal);
         }
     }
+}
+
+void AsyncSession::wait_for_work(std::unique_lock<std::mutex>& lock) {
+    const auto idle_since = std::chrono::steady_clock::now();
+    while (!stopping_ && !has_queued_) {
+        if (std::chrono::steady_clock::now() - idle_since < idle_poll_window) {
+            worker_polling_ = true;
+            work_ready_.wait_for(lock, idle_poll_interval);
+        } else {
+            worker_polling_ = false;
+            work_ready_.wait(lock, [&] { return stopping_ || has_queued_; });
+        }
+    }
+    worker_polling_ = false;
 }
 
 Status AsyncSession::solve_and_publish(std::span<const glm::dvec3> targets,
@@ -230,17 +349,50 @@ bool AsyncSession::release() {
     return true;
 }
 
+std::span<const glm::dvec3> AsyncSession::current_positions() const {
+    return session_ ? session_->positions() : std::span<const glm::dvec3>(model_.mesh.positions);
+}
+
 void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, Errc status,
                            bool partial) {
     int slot = 0;
+    bool preparing = false;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        while (slot == front_ || slot == reading_ || slot == held_) ++slot;
+        while (slot == front_ || slot == finished_ || slot == reading_ || slot == held_) ++slot;
+        preparing = preparing_;
     }
     Frame& frame = frames_[slot];
-    const std::span<const glm::dvec3> positions = session_->positions();
+    // Already sized by the set-up (no allocation) unless it ran out of memory.
+    size_frame(frame);
+    write_frame(frame, generation, report, status, partial, preparing);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        front_ = slot;
+        newest_generation_ = generation;
+        if (!partial) {
+            finished_ = slot;
+            newest_finished_ = generation;
+        }
+    }
+    frame_ready_.notify_all();
+    if (on_frame_) on_frame_(frame);
+}
+
+void AsyncSession::size_frame(Frame& frame) const {
+    frame.positions.resize(moving_.size());
+    frame.positions_f32.resize(3 * moving_.size());
+    const std::size_t normal_count = normals_built_ ? normals_.vertices().size() : 0;
+    frame.normals.resize(normal_count);
+    frame.normals_f32.resize(3 * normal_count);
+    frame.normal_vertices = normals_built_ ? normals_.vertices() : std::span<const std::uint32_t>();
+}
+
+void AsyncSession::write_frame(Frame& frame, std::uint64_t generation, const SolveReport& report,
+                               Errc status, bool partial, bool preparing) {
+    const std::span<const glm::dvec3> positions = current_positions();
     for (std::size_t i = 0; i < moving_.size(); ++i) frame.positions[i] = positions[moving_[i]];
-    normals_.compute(positions, frame.normals);
+    if (normals_built_) normals_.compute(positions, frame.normals);
     for (std::size_t i = 0; i < frame.positions.size(); ++i) {
         for (int c = 0; c < 3; ++c) {
             frame.positions_f32[3 * i + c] = static_cast<float>(frame.positions[i][c]);
@@ -253,17 +405,11 @@ void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, 
     }
     frame.generation = generation;
     frame.partial = partial;
+    frame.preparing = preparing;
     frame.report = report;
     frame.status = status;
     frame.checksum = frame_checksum(frame.positions);
     last_publish_ = std::chrono::steady_clock::now();
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        front_ = slot;
-        newest_generation_ = generation;
-        if (!partial) newest_finished_ = generation;
-    }
-    frame_ready_.notify_all();
 }
 
 }  // namespace dfm::deform

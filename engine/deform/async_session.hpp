@@ -5,6 +5,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <span>
@@ -19,18 +20,27 @@ namespace dfm::deform {
 
 // One published result of an asynchronous session.
 struct Frame {
-    // The targets' generation it was solved for; 0 is the start state.
+    // The targets' generation it was solved for; the start state carries
+    // AsyncSession::Start::first_generation.
     std::uint64_t generation = 0;
     // A preview: an iterate published while the solve for `generation` runs.
     bool partial = false;
+    // The set-up (assembly, ordering, factorization) is still running on the
+    // worker: the positions are the rest pose.
+    bool preparing = false;
     SolveReport report;
-    // numerical: the solve broke down and `positions` are the last good ones.
+    // numerical: the solve broke down and `positions` are the last good ones;
+    // any other failure: the set-up or the worker failed.
     Errc status = Errc::ok;
     // FNV-1a over the bytes of `positions`, computed as the frame was
     // written: a reader that recomputes it knows the frame is whole.
     std::uint64_t checksum = 0;
     std::vector<glm::dvec3> positions;  // one per AsyncSession::moving() vertex
-    std::vector<glm::dvec3> normals;    // one per AsyncSession::normal_vertices() vertex
+    // The vertices whose normals the edit changes, ascending, and their
+    // normals; both empty before the set-up has ended (every normal is
+    // then the rest pose's).
+    std::span<const std::uint32_t> normal_vertices;
+    std::vector<glm::dvec3> normals;
     // The same in single precision, x y z per vertex, ready for a GPU upload.
     std::vector<float> positions_f32;
     std::vector<float> normals_f32;
@@ -39,50 +49,80 @@ struct Frame {
 std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
 
 // A DeformSession behind a worker thread (docs/design.md, "The asynchronous session").
-// The host submits targets without blocking; latest wins: queued targets that
-// a newer submit replaces are never solved. A running solve finishes (only
-// cancel, destroy and solve_now stop it early), so every finished frame is a
-// converged result; while it runs, an iterate is published as a partial
-// frame at most every preview_interval, so a host whose handles move faster
-// than the solve still sees the shape follow. Frames live in four slots: the
-// newest, the one the worker writes, one a reader copies and one a host holds
-// as a view; no side waits for another beyond swapping indices, and no frame
-// is ever torn.
+// The worker first builds the session (the set-up), so creating one never
+// costs the host's frame; meanwhile frames show the rest pose, marked
+// preparing, and submitted targets wait for it. The host submits targets
+// without blocking; latest wins: queued targets that a newer submit replaces
+// are never solved. A running solve finishes (only cancel, destroy and
+// solve_now stop it early), so every finished frame is a converged result;
+// while it runs, an iterate is published as a partial frame at most every
+// preview_interval. Frames live in five slots: the newest, the newest
+// finished (kept for a bake while previews follow it), the one the worker
+// writes, one a reader copies and one a host holds as a view (and a sixth
+// holds the start frame until the first is published); no side waits for
+// another beyond swapping indices, no frame is ever torn, and after the
+// set-up no publish allocates.
 class AsyncSession {
 public:
-    // `roi` is the region the session was created with (ascending); frames
-    // carry the positions of all its vertices.
-    static Status create(std::unique_ptr<DeformSession> session, std::span<const std::uint32_t> roi,
+    // Builds the session on the worker; what it throws is reported as the
+    // set-up's failure.
+    using Setup = std::function<Status(std::unique_ptr<DeformSession>&)>;
+    // Called on the publishing thread (the worker, or solve_now's caller)
+    // after each frame is published, with no lock held.
+    using FrameHook = std::function<void(const Frame&)>;
+
+    struct Start {
+        // The start frame's generation; submits count on from
+        // submitted_through + 1, so generations grow across restarts.
+        std::uint64_t first_generation = 0;
+        std::uint64_t submitted_through = 0;
+        FrameHook on_frame;
+    };
+
+    // `roi` is the region the session edits (ascending, no repeats);
+    // frames carry the positions of all its vertices. `handle_vertices` are the set-up's,
+    // in order. `model` must outlive the AsyncSession.
+    static Status create(const MeshModel& model, std::span<const std::uint32_t> roi,
+                         std::span<const std::uint32_t> handle_vertices, Setup setup, Start start,
                          std::unique_ptr<AsyncSession>& out);
-    // Stops the worker after the iteration in progress and joins it.
+    // Stops the worker after the iteration in progress (or after the set-up,
+    // which cannot be stopped part way) and joins it.
     ~AsyncSession();
     AsyncSession(const AsyncSession&) = delete;
     AsyncSession& operator=(const AsyncSession&) = delete;
 
     // Queues `targets` (one per handle vertex) for the worker and returns
-    // their generation. Never waits for a solve. Non-finite targets or a
-    // wrong count are refused and nothing is queued.
+    // their generation. Never waits for a solve or the set-up. Non-finite
+    // targets, a wrong count or a failed set-up are refused and nothing is
+    // queued.
     Status submit(std::span<const glm::dvec3> targets, std::uint64_t& generation);
 
     // Drops queued targets and stops the running solve after its current
-    // iteration; returns once the worker is idle. Frames already published
-    // stay; the session keeps the stopped iterate as its next starting point.
+    // iteration; returns once no solve runs (a running set-up goes on).
+    // Frames already published stay; the session keeps the stopped iterate
+    // as its next starting point.
     void cancel();
 
     // Solves `targets` on the calling thread (refused like submit's), after
-    // stopping the worker's solve, and publishes the frame as the worker would: the same
-    // arithmetic, so the result is bit for bit what the worker computes from
-    // the same state.
+    // waiting for the set-up and stopping the worker's solve, and publishes
+    // the frame as the worker would: the same arithmetic, so the result is
+    // bit for bit what the worker computes from the same state.
     Status solve_now(std::span<const glm::dvec3> targets, std::uint64_t& generation);
 
     enum class WaitResult { ready, cancelled, timed_out };
-    // Waits until a finished (not interrupted) frame of generation >=
-    // `generation` is published (ready), that generation is cancelled, or
-    // `timeout` passes; nanoseconds::max() waits without limit.
+    // Waits until the set-up has ended and a finished (not interrupted) frame
+    // of generation >= `generation` is published (ready), that generation is
+    // cancelled, or `timeout` passes; nanoseconds::max() waits without
+    // limit. The start frame's generation waits for the set-up alone.
     WaitResult wait(std::uint64_t generation, std::chrono::nanoseconds timeout);
 
-    // Changes when later solves stop; waits for a running solve to end.
+    // Changes when later solves stop; waits for the set-up and a running
+    // solve to end.
     Status set_stopping_rule(double tolerance, int max_iterations);
+
+    // Whether the set-up still runs, and how it ended once it has.
+    bool preparing() const;
+    Status setup_status() const;
 
     std::uint64_t newest_generation() const;
     std::uint64_t submitted_generation() const;
@@ -103,6 +143,24 @@ public:
         reading_ = -1;
     }
 
+    // Calls `reader(const Frame&)` with the newest finished frame if
+    // `generation` is 0 or that frame's; false (and no call) otherwise.
+    template <class Reader>
+    bool read_finished(std::uint64_t generation, Reader&& reader) {
+        std::lock_guard<std::mutex> read_lock(read_mutex_);
+        int slot = 0;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            slot = finished_;
+            if (generation != 0 && frames_[slot].generation != generation) return false;
+            reading_ = slot;
+        }
+        reader(static_cast<const Frame&>(frames_[slot]));
+        std::lock_guard<std::mutex> lock(mutex_);
+        reading_ = -1;
+        return true;
+    }
+
     // Holds the newest frame for the caller until release(): zero-copy
     // reading. Null when a frame is already held (one at a time).
     const Frame* acquire();
@@ -111,53 +169,84 @@ public:
     bool holding() const;
 
     static constexpr std::chrono::milliseconds preview_interval{8};
+    // After its last piece of work the worker looks for new targets every
+    // idle_poll_interval for idle_poll_window before it sleeps until woken.
+    // A submit while it looks makes no system call: waking a sleeping
+    // thread costs the submitting thread several microseconds, which a host
+    // pays in its frame; the looking costs the worker a wake-up per
+    // interval, and a new drag's first submit pays the wake-up once.
+    static constexpr std::chrono::microseconds idle_poll_interval{200};
+    static constexpr std::chrono::milliseconds idle_poll_window{100};
 
     // The ROI, ascending (every vertex that may move is in it);
     // Frame::positions follows it.
     std::span<const std::uint32_t> moving() const { return moving_; }
-    // Vertices whose normals change with the region; Frame::normals follows it.
-    std::span<const std::uint32_t> normal_vertices() const { return normals_.vertices(); }
     std::span<const std::uint32_t> handle_vertices() const { return handle_vertices_; }
     const MeshModel& model() const { return model_; }
-    // The set-up of the session's system (fixed for its life).
-    const SetupReport& setup_report() const { return setup_; }
+    // The set-up of the session's system, once the worker has built it
+    // (zeros while it prepares or when it failed).
+    SetupReport setup_report() const;
 
 private:
-    explicit AsyncSession(std::unique_ptr<DeformSession> session);
+    explicit AsyncSession(const MeshModel& model) : model_(model) {}
     void run_worker();
+    // Runs the set-up and publishes its outcome; false when it failed.
+    bool set_up();
+    // Waits for queued targets or stopping_ (see idle_poll_interval).
+    void wait_for_work(std::unique_lock<std::mutex>& lock);
     // The count and finiteness of targets, checked before anything changes.
     Status check_targets(std::span<const glm::dvec3> targets) const;
     // Solves for `targets` under solve_mutex_ and publishes the frame.
     Status solve_and_publish(std::span<const glm::dvec3> targets, std::uint64_t generation,
                              const std::atomic<bool>* interrupt);
+    // The session's positions, or the rest pose before a set-up.
+    std::span<const glm::dvec3> current_positions() const;
     void publish(std::uint64_t generation, const SolveReport& report, Errc status, bool partial);
-    // Publishes the session's last good positions with a failure status, so
-    // a host waiting for `generation` hears of it.
+    // Sizes a slot's arrays for the ROI and (once built) the normals.
+    void size_frame(Frame& frame) const;
+    // Fills a sized slot from the session's current positions.
+    void write_frame(Frame& frame, std::uint64_t generation, const SolveReport& report, Errc status,
+                     bool partial, bool preparing);
+    // Publishes the last good positions with a failure status, so a host
+    // waiting for `generation` hears of it.
     void publish_failure(std::uint64_t generation, Errc status);
+    // Waits until the set-up has ended; false when it failed.
+    bool wait_until_set_up();
 
-    std::unique_ptr<DeformSession> session_;
     const MeshModel& model_;
+    Setup setup_;  // the worker's until it has run
+    FrameHook on_frame_;
+    std::unique_ptr<DeformSession> session_;  // set once by the worker, before preparing_ ends
     std::vector<std::uint32_t> moving_;
     std::vector<std::uint32_t> handle_vertices_;
-    RegionNormals normals_;
+    RegionNormals normals_;  // built by the set-up; then only the publisher reads it
+    bool normals_built_ = false;
 
-    // Guards the queue, the generations and the slot indices; held briefly.
+    // Guards the queue, the generations, the set-up's outcome and the slot
+    // indices; held briefly.
     mutable std::mutex mutex_;
     std::condition_variable work_ready_;
     std::condition_variable frame_ready_;
     std::vector<glm::dvec3> queued_targets_;
     bool has_queued_ = false;
     bool stopping_ = false;
+    bool worker_polling_ = false;  // the worker looks for work by itself: no wake-up needed
+    bool preparing_ = true;
+    Status setup_status_;
+    std::uint64_t first_generation_ = 0;
     std::uint64_t next_generation_ = 1;
     std::uint64_t queued_generation_ = 0;
     std::uint64_t cancelled_through_ = 0;
     std::uint64_t newest_generation_ = 0;
     std::uint64_t newest_finished_ = 0;
-    int front_ = 0;
+    // Slots 0-4 take turns; the start frame has the last one to itself.
+    static constexpr int start_slot = 5;
+    int front_ = start_slot;
+    int finished_ = start_slot;
     int reading_ = -1;
     int held_ = -1;
-    std::array<Frame, 4> frames_;
-    SetupReport setup_;
+    std::array<Frame, 6> frames_;
+    SetupReport setup_report_;  // under mutex_; filled when the set-up succeeds
 
     // Held by whoever runs the DeformSession: the worker or solve_now.
     std::mutex solve_mutex_;

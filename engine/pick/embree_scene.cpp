@@ -83,7 +83,8 @@ EmbreeScene::EmbreeScene(EmbreeScene&&) noexcept = default;
 EmbreeScene& EmbreeScene::operator=(EmbreeScene&&) noexcept = default;
 
 Status EmbreeScene::create(std::span<const glm::dvec3> positions,
-                           std::span<const mesh::Triangle> triangles, EmbreeScene& out) {
+                           std::span<const mesh::Triangle> triangles, EmbreeScene& out,
+                           unsigned thread_count) {
     out.impl_.reset();
     if (Status s = check_positions(positions); !s) return s;
     for (std::size_t f = 0; f < triangles.size(); ++f) {
@@ -100,7 +101,9 @@ Status EmbreeScene::create(std::span<const glm::dvec3> positions,
         auto impl = std::make_unique<Impl>();
         impl->positions.assign(positions.begin(), positions.end());
         impl->triangles.assign(triangles.begin(), triangles.end());
-        impl->device = rtcNewDevice(nullptr);
+        const std::string config =
+            thread_count == 0 ? std::string() : "threads=" + std::to_string(thread_count);
+        impl->device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
         if (!impl->device) {
             return Status(Errc::unsupported,
                           "pick scene: Embree cannot create a device (error code " +

@@ -39,9 +39,11 @@ public:
 
     // Builds the scene. Fails (naming the vertex or face) on a non-finite
     // position or an out-of-range index, and on any Embree error; `out` is
-    // then empty.
+    // then empty. `thread_count` is the Embree device's: 0 lets Embree start
+    // one thread per hardware thread, 1 builds on the calling thread alone.
     static Status create(std::span<const glm::dvec3> positions,
-                         std::span<const mesh::Triangle> triangles, EmbreeScene& out);
+                         std::span<const mesh::Triangle> triangles, EmbreeScene& out,
+                         unsigned thread_count = 0);
 
     // Moves the vertices (same count, same triangles) and refits the BVH
     // instead of rebuilding it, so picks hit the deformed surface. On

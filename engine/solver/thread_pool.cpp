@@ -1,11 +1,30 @@
 #include "solver/thread_pool.hpp"
 
+#if defined(__linux__)
+#include <pthread.h>
+#endif
+
 namespace dfm::solver {
+
+namespace {
+
+// A host's debugger and profiler show whose threads these are.
+void name_this_thread() {
+#if defined(__linux__)
+    pthread_setname_np(pthread_self(), "dfm-solver");
+#endif
+}
+
+}  // namespace
 
 ThreadPool::ThreadPool(std::size_t thread_count) {
     const std::size_t workers = thread_count > 1 ? thread_count - 1 : 0;
     workers_.reserve(workers);
-    for (std::size_t i = 0; i < workers; ++i) workers_.emplace_back([this] { worker_loop(); });
+    for (std::size_t i = 0; i < workers; ++i)
+        workers_.emplace_back([this] {
+            name_this_thread();
+            worker_loop();
+        });
 }
 
 ThreadPool::~ThreadPool() {

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <cstddef>
+#include <cstring>
 #include <exception>
 #include <new>
 #include <string>
@@ -28,9 +30,10 @@ inline dfm_result report(const char* function, dfm_result code, const std::strin
     return fail(code, message);
 }
 
-// Runs the body of one C entry point: no exception leaves it. bad_alloc becomes
-// DFM_ERROR_OUT_OF_MEMORY; anything else is a defect reported as
-// DFM_ERROR_INVALID_ARGUMENT with its text, instead of terminating the host.
+// The one guard around the body of every C entry point: no exception leaves
+// it. bad_alloc becomes DFM_ERROR_OUT_OF_MEMORY; anything else is a defect of
+// ours, DFM_ERROR_INTERNAL with its text. The handlers record the message
+// without allocating.
 template <class Body>
 dfm_result guarded(const char* function, Body&& body) noexcept {
     try {
@@ -38,16 +41,21 @@ dfm_result guarded(const char* function, Body&& body) noexcept {
     } catch (const std::bad_alloc&) {
         return fail_parts(DFM_ERROR_OUT_OF_MEMORY, function, "out of memory");
     } catch (const std::exception& e) {
-        return report(function, DFM_ERROR_INVALID_ARGUMENT,
-                      std::string("internal error: ") + e.what());
+        return fail_parts(DFM_ERROR_INTERNAL, function, e.what());
     } catch (...) {
-        return report(function, DFM_ERROR_INVALID_ARGUMENT, "internal error");
+        return fail_parts(DFM_ERROR_INTERNAL, function, "an unknown exception");
     }
 }
 
-}  // namespace dfm::sdk
-
-namespace dfm::sdk {
+// The same for the calls that return nothing (destroy): a failure is
+// recorded as the thread's last error.
+template <class Body>
+void guarded_void(const char* function, Body&& body) noexcept {
+    guarded(function, [&] {
+        body();
+        return DFM_OK;
+    });
+}
 
 // DFM_ERROR_INVALID_HANDLE naming the parameter, NULL or not live.
 inline dfm_result bad_handle(const char* function, const char* parameter, const void* handle) {
@@ -56,4 +64,41 @@ inline dfm_result bad_handle(const char* function, const char* parameter, const 
                       (handle == nullptr ? " is NULL" : " is not a live handle of its kind"));
 }
 
+// Copies a host descriptor that begins with `uint32_t struct_size` into
+// `out` (zeroed first), reading only the bytes the host's struct has.
+// `first_size` is what struct_size 0 stands for (the struct's size when the
+// field appeared). A larger struct than ours is accepted only when the bytes
+// we do not know are zero.
+template <class Desc>
+dfm_result read_descriptor(const char* function, const char* name, const Desc* in,
+                           std::size_t first_size, Desc& out) {
+    std::memset(&out, 0, sizeof out);
+    if (in == nullptr)
+        return report(function, DFM_ERROR_INVALID_ARGUMENT, std::string(name) + " is NULL");
+    std::uint32_t size = 0;
+    std::memcpy(&size, in, sizeof size);
+    if (size == 0) size = static_cast<std::uint32_t>(first_size);
+    if (size < sizeof size) {
+        return report(function, DFM_ERROR_INVALID_ARGUMENT,
+                      std::string(name) + "->struct_size " + std::to_string(size) +
+                          " is smaller than the field itself");
+    }
+    const auto* bytes = reinterpret_cast<const unsigned char*>(in);
+    for (std::size_t i = sizeof(Desc); i < size; ++i) {
+        if (bytes[i] != 0) {
+            return report(function, DFM_ERROR_UNSUPPORTED,
+                          std::string(name) + " is " + std::to_string(size) +
+                              " bytes, of which this library (version " +
+                              std::to_string(DFM_VERSION) + ") knows " +
+                              std::to_string(sizeof(Desc)) + "; byte " + std::to_string(i) +
+                              " of a newer field is set");
+        }
+    }
+    std::memcpy(&out, in, size < sizeof(Desc) ? size : sizeof(Desc));
+    return DFM_OK;
+}
+
 }  // namespace dfm::sdk
+
+// The end of a struct's member: the struct_size of a layout that ended there.
+#define DFM_END_OF(type, member) (offsetof(type, member) + sizeof(((type*)nullptr)->member))

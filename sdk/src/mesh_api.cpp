@@ -10,12 +10,13 @@
 #include "mesh/summary.hpp"
 #include "mesh/write.hpp"
 #include "objects.hpp"
+#include "shared_calls.hpp"
 #include "vec3_arrays.hpp"
 
 using namespace dfm;
 using namespace dfm::sdk;
 
-namespace {
+namespace dfm::sdk {
 
 dfm_result make_mesh_handle(const ContextState& context,
                             const std::shared_ptr<const ContextState>& shared, mesh::Mesh mesh,
@@ -26,9 +27,36 @@ dfm_result make_mesh_handle(const ContextState& context,
     auto state = std::allocate_shared<MeshState>(HostAllocator<MeshState>(context.allocator));
     state->context = shared;
     state->model = std::move(model);
-    *out = host_new<dfm_mesh>(context, Kind::mesh, std::move(state));
+    *out = host_new<MeshObject>(context, std::move(state));
     return DFM_OK;
 }
+
+dfm_result load_mesh_file(const char* function, ContextObject& context, const char* path,
+                          mesh::LoadReport& load_report, dfm_mesh** out) {
+    std::filesystem::path file;
+    const std::string& models = context.state->models_directory;
+    if (Status s = mesh::resolve_mesh_spec(path, std::filesystem::current_path(), models, file);
+        !s) {
+        if (models.empty() && s.code() == Errc::not_found) {
+            return report(function, DFM_ERROR_NOT_FOUND,
+                          s.message() + " (set dfm_context_desc.models_directory)");
+        }
+        return report(function, s);
+    }
+    mesh::Mesh m;
+    if (Status s = mesh::load_mesh(file, m, &load_report); !s) return report(function, s);
+    for (const std::string& warning : load_report.warnings) {
+        context.state->emit(DFM_LOG_WARNING, DFM_LOG_ID_LOAD_WARNING, warning);
+    }
+    if (m.vertex_count() == 0 || m.face_count() == 0) {
+        return report(function, DFM_ERROR_PARSE, file.string() + ": the mesh has no triangles");
+    }
+    return make_mesh_handle(*context.state, context.state, std::move(m), out);
+}
+
+}  // namespace dfm::sdk
+
+namespace {
 
 Status check_triangles(const mesh::Mesh& m) {
     const std::size_t n = m.vertex_count();
@@ -51,106 +79,99 @@ Status check_triangles(const mesh::Mesh& m) {
     return Status::ok();
 }
 
+// What struct_size 0 stands for: dfm_mesh_desc as version 0.2 had it.
+constexpr std::size_t mesh_desc_0_2 = DFM_END_OF(dfm_mesh_desc, index_stride);
+
 }  // namespace
 
 extern "C" DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_mesh_desc* desc,
                                               dfm_mesh** out) {
     constexpr const char* fn = "dfm_mesh_create";
-    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
-    *out = nullptr;
-    if (!is_live(context, Kind::context)) return bad_handle(fn, "context", context);
-    if (desc == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "desc is NULL");
-    if (std::string e = check_vec3_input(&desc->positions, "desc->positions"); !e.empty()) {
-        return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
-    }
-    if (desc->indices == nullptr) {
-        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "desc->indices is NULL");
-    }
-    if (desc->positions.count == 0 || desc->triangle_count == 0) {
-        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the mesh needs vertices and triangles");
-    }
-    if (desc->positions.count > 0xFFFFFFFEu || desc->triangle_count > 0xFFFFFFFEu) {
-        return report(fn, DFM_ERROR_OUT_OF_RANGE, "more than 2^32 - 2 vertices or triangles");
-    }
-    if (desc->index_stride != 0 && desc->index_stride < 3 * sizeof(std::uint32_t)) {
-        return report(fn, DFM_ERROR_INVALID_ARGUMENT,
-                      "desc->index_stride " + std::to_string(desc->index_stride) +
-                          " is smaller than one triangle (12 bytes)");
-    }
     return guarded(fn, [&] {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = nullptr;
+        ContextObject* c = resolve_context(context);
+        if (c == nullptr) return bad_handle(fn, "context", context);
+        dfm_mesh_desc d;
+        if (dfm_result r = read_descriptor(fn, "desc", desc, mesh_desc_0_2, d); r != DFM_OK) {
+            return r;
+        }
+        if (std::string e = check_vec3_input(&d.positions, "desc->positions"); !e.empty()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
+        }
+        if (d.indices == nullptr) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "desc->indices is NULL");
+        }
+        if (d.positions.count == 0 || d.triangle_count == 0) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the mesh needs vertices and triangles");
+        }
+        if (d.positions.count > 0xFFFFFFFEu || d.triangle_count > 0xFFFFFFFEu) {
+            return report(fn, DFM_ERROR_OUT_OF_RANGE, "more than 2^32 - 2 vertices or triangles");
+        }
+        if (d.index_stride != 0 && d.index_stride < 3 * sizeof(std::uint32_t)) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "desc->index_stride " + std::to_string(d.index_stride) +
+                              " is smaller than one triangle (12 bytes)");
+        }
         mesh::Mesh m;
-        m.positions.resize(desc->positions.count);
+        m.positions.resize(d.positions.count);
         for (std::size_t i = 0; i < m.positions.size(); ++i) {
-            m.positions[i] = read_vec3(desc->positions, i);
+            m.positions[i] = read_vec3(d.positions, i);
             if (!std::isfinite(m.positions[i].x) || !std::isfinite(m.positions[i].y) ||
                 !std::isfinite(m.positions[i].z)) {
                 return report(fn, DFM_ERROR_NUMERICAL,
                               "vertex " + std::to_string(i) + " is not finite");
             }
         }
-        const std::size_t stride = desc->index_stride != 0 ? desc->index_stride : 12;
-        m.triangles.resize(desc->triangle_count);
+        const std::size_t stride = d.index_stride != 0 ? d.index_stride : 12;
+        m.triangles.resize(d.triangle_count);
         for (std::size_t t = 0; t < m.triangles.size(); ++t) {
             std::memcpy(m.triangles[t].data(),
-                        reinterpret_cast<const char*>(desc->indices) + t * stride,
+                        reinterpret_cast<const char*>(d.indices) + t * stride,
                         3 * sizeof(std::uint32_t));
         }
         if (Status s = check_triangles(m); !s) return report(fn, s);
-        return make_mesh_handle(*context->state, context->state, std::move(m), out);
+        return make_mesh_handle(*c->state, c->state, std::move(m), out);
     });
 }
 
 extern "C" DFM_API dfm_result dfm_mesh_load(dfm_context* context, const char* path,
                                             dfm_mesh** out) {
     constexpr const char* fn = "dfm_mesh_load";
-    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
-    *out = nullptr;
-    if (!is_live(context, Kind::context)) return bad_handle(fn, "context", context);
-    if (path == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path is NULL");
     return guarded(fn, [&] {
-        std::filesystem::path file;
-        const std::string& models = context->state->models_directory;
-        if (Status s = mesh::resolve_mesh_spec(path, std::filesystem::current_path(), models, file);
-            !s) {
-            if (models.empty() && s.code() == Errc::not_found) {
-                return report(fn, DFM_ERROR_NOT_FOUND,
-                              s.message() + " (set dfm_context_desc.models_directory)");
-            }
-            return report(fn, s);
-        }
-        mesh::Mesh m;
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = nullptr;
+        ContextObject* c = resolve_context(context);
+        if (c == nullptr) return bad_handle(fn, "context", context);
+        if (path == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path is NULL");
         mesh::LoadReport load_report;
-        if (Status s = mesh::load_mesh(file, m, &load_report); !s) return report(fn, s);
-        for (const std::string& warning : load_report.warnings) {
-            context->state->emit(DFM_LOG_WARNING, DFM_LOG_ID_LOAD_WARNING, warning);
-        }
-        if (m.vertex_count() == 0 || m.face_count() == 0) {
-            return report(fn, DFM_ERROR_PARSE, file.string() + ": the mesh has no triangles");
-        }
-        return make_mesh_handle(*context->state, context->state, std::move(m), out);
+        return load_mesh_file(fn, *c, path, load_report, out);
     });
 }
 
 extern "C" DFM_API dfm_result dfm_mesh_save(const dfm_mesh* mesh, const char* path) {
     constexpr const char* fn = "dfm_mesh_save";
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
-    if (path == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path is NULL");
-    return guarded(fn,
-                   [&] { return report(fn, mesh::save_mesh(path, mesh->state->current()->mesh)); });
+    return guarded(fn, [&] {
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (path == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path is NULL");
+        return guarded(
+            fn, [&] { return report(fn, mesh::save_mesh(path, m->state->current()->mesh)); });
+    });
 }
 
 extern "C" DFM_API void dfm_mesh_destroy(dfm_mesh* mesh) {
-    if (!is_live(mesh, Kind::mesh)) return;
-    host_delete(mesh);
+    guarded_void("dfm_mesh_destroy", [&] { host_delete<MeshObject>(mesh); });
 }
 
 extern "C" DFM_API dfm_result dfm_mesh_get_info(const dfm_mesh* mesh, dfm_mesh_info* out) {
     constexpr const char* fn = "dfm_mesh_get_info";
-    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
-    *out = dfm_mesh_info{};
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
     return guarded(fn, [&] {
-        const MeshState& state = *mesh->state;
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = dfm_mesh_info{};
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        const MeshState& state = *m->state;
         std::shared_ptr<const deform::MeshModel> model;
         {
             std::lock_guard<std::mutex> lock(state.mutex);
@@ -175,9 +196,10 @@ extern "C" DFM_API dfm_result dfm_mesh_get_info(const dfm_mesh* mesh, dfm_mesh_i
 extern "C" DFM_API dfm_result dfm_mesh_read_positions(const dfm_mesh* mesh,
                                                       const dfm_vec3_output* out) {
     constexpr const char* fn = "dfm_mesh_read_positions";
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
     return guarded(fn, [&] {
-        const auto model = mesh->state->current();
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        const auto model = m->state->current();
         const auto& positions = model->mesh.positions;
         if (std::string e = check_vec3_output(out, positions.size(), "out"); !e.empty()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
@@ -190,10 +212,11 @@ extern "C" DFM_API dfm_result dfm_mesh_read_positions(const dfm_mesh* mesh,
 extern "C" DFM_API dfm_result dfm_mesh_read_indices(const dfm_mesh* mesh, uint32_t* indices,
                                                     size_t capacity) {
     constexpr const char* fn = "dfm_mesh_read_indices";
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
-    if (indices == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "indices is NULL");
     return guarded(fn, [&] {
-        const auto model = mesh->state->current();
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (indices == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "indices is NULL");
+        const auto model = m->state->current();
         const auto& triangles = model->mesh.triangles;
         if (capacity < 3 * triangles.size()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT,
@@ -208,9 +231,10 @@ extern "C" DFM_API dfm_result dfm_mesh_read_indices(const dfm_mesh* mesh, uint32
 extern "C" DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh,
                                                     const dfm_vec3_output* out) {
     constexpr const char* fn = "dfm_mesh_read_normals";
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
     return guarded(fn, [&] {
-        const auto model = mesh->state->current();
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        const auto model = m->state->current();
         if (std::string e = check_vec3_output(out, model->mesh.vertex_count(), "out"); !e.empty()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
         }
@@ -221,15 +245,86 @@ extern "C" DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh,
     });
 }
 
+extern "C" DFM_API dfm_result dfm_mesh_read_indices16(const dfm_mesh* mesh, uint16_t* indices,
+                                                      size_t capacity) {
+    constexpr const char* fn = "dfm_mesh_read_indices16";
+    return guarded(fn, [&] {
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (indices == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "indices is NULL");
+        const auto model = m->state->current();
+        if (model->mesh.vertex_count() > 65536) {
+            return report(fn, DFM_ERROR_OUT_OF_RANGE,
+                          "the mesh has " + std::to_string(model->mesh.vertex_count()) +
+                              " vertices, more than 16-bit indices reach (65,536)");
+        }
+        const auto& triangles = model->mesh.triangles;
+        if (capacity < 3 * triangles.size()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "room for " + std::to_string(capacity) + " indices, " +
+                              std::to_string(3 * triangles.size()) + " needed");
+        }
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
+            for (int c = 0; c < 3; ++c) {
+                indices[3 * t + c] = static_cast<std::uint16_t>(triangles[t][c]);
+            }
+        }
+        return DFM_OK;
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_set_positions(dfm_mesh* mesh,
+                                                     const dfm_vec3_input* positions) {
+    constexpr const char* fn = "dfm_mesh_set_positions";
+    return guarded(fn, [&] {
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (std::string e = check_vec3_input(positions, "positions"); !e.empty()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
+        }
+        const auto model = m->state->current();
+        if (positions->count != model->mesh.vertex_count()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "positions->count is " + std::to_string(positions->count) +
+                              ", the mesh has " + std::to_string(model->mesh.vertex_count()) +
+                              " vertices");
+        }
+        std::vector<glm::dvec3> xyz(positions->count);
+        for (std::size_t v = 0; v < xyz.size(); ++v) {
+            xyz[v] = read_vec3(*positions, v);
+            if (!std::isfinite(xyz[v].x) || !std::isfinite(xyz[v].y) || !std::isfinite(xyz[v].z)) {
+                return report(fn, DFM_ERROR_NUMERICAL,
+                              "vertex " + std::to_string(v) + " is not finite; nothing changed");
+            }
+        }
+        auto posed = std::allocate_shared<deform::MeshModel>(
+            HostAllocator<deform::MeshModel>(m->state->context->allocator));
+        if (Status s = deform::bake_positions(*model, xyz, *posed); !s) return report(fn, s);
+        MeshState& state = *m->state;
+        std::lock_guard<std::mutex> lock(state.mutex);
+        if (state.model != model) {
+            return report(fn, DFM_ERROR_BUSY,
+                          "the rest pose changed (a bake, an undo or another update) during the "
+                          "call; nothing changed");
+        }
+        state.undo.reserve(state.undo.size() + 1);
+        state.undo.push_back(state.model);
+        state.redo.clear();
+        state.model = std::move(posed);
+        return DFM_OK;
+    });
+}
+
 namespace {
 
 // Undo and redo: the current rest pose goes on one history stack and the top
 // of the other becomes current. The push is reserved first, so running out
 // of memory changes nothing.
 dfm_result step_history(const char* fn, dfm_mesh* mesh, bool undo) {
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
+    MeshObject* m = resolve_mesh(mesh);
+    if (m == nullptr) return bad_handle(fn, "mesh", mesh);
     return guarded(fn, [&] {
-        MeshState& state = *mesh->state;
+        MeshState& state = *m->state;
         std::lock_guard<std::mutex> lock(state.mutex);
         auto& from = undo ? state.undo : state.redo;
         auto& to = undo ? state.redo : state.undo;

@@ -1,8 +1,9 @@
 #pragma once
 
-// What the C API's opaque handles are. Every handle is registered while it
-// lives, so a call on a destroyed or foreign pointer is refused with
-// DFM_ERROR_INVALID_HANDLE instead of touching freed memory.
+// What the C API's opaque handles stand for. A handle is an index and a
+// generation (handle_table.hpp), never an address, so a destroyed, foreign
+// or recycled handle is refused with DFM_ERROR_INVALID_HANDLE instead of
+// touching freed memory or another object.
 
 #include <cstdint>
 #include <memory>
@@ -14,6 +15,7 @@
 #include "deform/async_session.hpp"
 #include "deform/mesh_model.hpp"
 #include "dualform/dualform.h"
+#include "handle_table.hpp"
 #include "pick/embree_scene.hpp"
 #include "solver/thread_pool.hpp"
 
@@ -29,7 +31,8 @@ struct ContextState {
     dfm_log_fn log = nullptr;
     void* log_user = nullptr;
     std::uint32_t worker_count = 1;
-    std::string models_directory;  // empty: model:NAME is not found
+    std::uint32_t pick_thread_count = 0;  // Embree's device; 0: Embree's default
+    std::string models_directory;         // empty: model:NAME is not found
 
     void* allocate(std::size_t size, std::size_t alignment) const {
         return host_allocate(allocator, size, alignment);
@@ -77,82 +80,123 @@ struct MeshState {
     }
 };
 
-}  // namespace dfm::sdk
-
-struct dfm_context {
-    std::shared_ptr<const dfm::sdk::ContextState> state;
+// The objects behind the C API's handles. Each names its handle type and
+// kind; handles map to objects through handle_table.hpp.
+struct ContextObject {
+    using Handle = dfm_context;
+    static constexpr Kind kind = Kind::context;
+    std::shared_ptr<const ContextState> state;
 };
 
-struct dfm_mesh {
-    std::shared_ptr<dfm::sdk::MeshState> state;
+struct MeshObject {
+    using Handle = dfm_mesh;
+    static constexpr Kind kind = Kind::mesh;
+    std::shared_ptr<MeshState> state;
 };
 
-struct dfm_roi {
-    std::shared_ptr<dfm::sdk::MeshState> mesh;
+struct RoiObject {
+    using Handle = dfm_roi;
+    static constexpr Kind kind = Kind::roi;
+    std::shared_ptr<MeshState> mesh;
     std::vector<std::uint32_t> vertices;  // ascending
 };
 
-struct dfm_session {
-    std::shared_ptr<dfm::sdk::MeshState> mesh;
-    std::shared_ptr<const dfm::deform::MeshModel> model;  // the rest pose it edits
+struct SessionObject {
+    using Handle = dfm_session;
+    static constexpr Kind kind = Kind::session;
+    std::shared_ptr<MeshState> mesh;
+    std::shared_ptr<const deform::MeshModel> model;  // the rest pose it edits
     std::vector<std::uint32_t> roi;
     std::vector<std::vector<std::uint32_t>> groups;
-    dfm::deform::DeformSettings settings;
-    std::unique_ptr<dfm::solver::ThreadPool> pool;
-    std::unique_ptr<dfm::deform::AsyncSession> async;
+    std::vector<std::uint32_t> handle_vertices;  // the groups' vertices, in order
+    deform::DeformSettings settings;
+    dfm_session* handle = nullptr;
+    dfm_frame_ready_fn on_frame = nullptr;
+    void* on_frame_user = nullptr;
     // The host's staged targets, one per handle vertex in group order, and
-    // the handles' rest positions the group transforms apply to.
+    // the handles' rest positions the group transforms apply to. A submit
+    // hands them to the worker under the mutex.
     std::mutex staging_mutex;
     std::vector<glm::dvec3> staged;
     std::vector<glm::dvec3> handle_rest;
     std::vector<std::size_t> group_offsets;  // group g: [offsets[g], offsets[g + 1])
-    std::vector<glm::dvec3> submitting;      // staged, copied out under the mutex
-    std::vector<glm::dvec3> rest_normals;    // of the whole rest pose
+    // What dfm_session_solve solves: the staged targets, copied out so that
+    // the solve holds no staging lock, into memory set up with the session.
+    std::mutex solving_mutex;
+    std::vector<glm::dvec3> solving;
+    // Of the whole rest pose, computed on the first whole-mesh normal read.
+    std::mutex rest_normals_mutex;
+    std::vector<glm::dvec3> rest_normals;
+    std::unique_ptr<solver::ThreadPool> pool;
+    std::unique_ptr<deform::AsyncSession> async;  // last: stopped before the rest goes
 };
 
-namespace dfm::sdk {
+static_assert(sizeof(void*) == sizeof(std::uint64_t), "handles are 64-bit values");
 
-enum class Kind : std::uint8_t { context, mesh, roi, session };
+template <class Handle>
+std::uint64_t handle_bits(const Handle* handle) {
+    return reinterpret_cast<std::uintptr_t>(handle);
+}
 
-void register_handle(const void* handle, Kind kind);
-void unregister_handle(const void* handle);
-bool is_live(const void* handle, Kind kind);
+template <class T>
+T* resolve(const typename T::Handle* handle) {
+    return static_cast<T*>(handles(T::kind).find(handle_bits(handle)));
+}
 
-inline std::shared_ptr<const ContextState> context_of(const dfm_context& c) {
+// The live object behind a handle, or null for NULL, a destroyed handle or
+// one of another kind.
+inline ContextObject* resolve_context(const dfm_context* h) {
+    return resolve<ContextObject>(h);
+}
+inline MeshObject* resolve_mesh(const dfm_mesh* h) {
+    return resolve<MeshObject>(h);
+}
+inline RoiObject* resolve_roi(const dfm_roi* h) {
+    return resolve<RoiObject>(h);
+}
+inline SessionObject* resolve_session(const dfm_session* h) {
+    return resolve<SessionObject>(h);
+}
+
+inline std::shared_ptr<const ContextState> context_of(const ContextObject& c) {
     return c.state;
 }
-inline std::shared_ptr<const ContextState> context_of(const dfm_mesh& m) {
+inline std::shared_ptr<const ContextState> context_of(const MeshObject& m) {
     return m.state->context;
 }
-inline std::shared_ptr<const ContextState> context_of(const dfm_roi& r) {
+inline std::shared_ptr<const ContextState> context_of(const RoiObject& r) {
     return r.mesh->context;
 }
-inline std::shared_ptr<const ContextState> context_of(const dfm_session& s) {
+inline std::shared_ptr<const ContextState> context_of(const SessionObject& s) {
     return s.mesh->context;
 }
 
-// Creates a handle object in memory from the context's allocator.
+// Creates an object in memory from the context's allocator and returns its
+// new handle.
 template <class T, class... Args>
-T* host_new(const ContextState& context, Kind kind, Args&&... args) {
+typename T::Handle* host_new(const ContextState& context, Args&&... args) {
     void* memory = context.allocate(sizeof(T), alignof(T));
     T* object = nullptr;
     try {
         object = new (memory) T{std::forward<Args>(args)...};
-        register_handle(object, kind);
+        return reinterpret_cast<typename T::Handle*>(
+            static_cast<std::uintptr_t>(handles(T::kind).insert(object)));
     } catch (...) {
         if (object != nullptr) object->~T();
         context.deallocate(memory, sizeof(T));
         throw;
     }
-    return object;
 }
 
+// Retires the handle and frees its object; a handle that is not live is
+// left alone.
 template <class T>
-void host_delete(T* object) {
+void host_delete(const typename T::Handle* handle) {
+    T* object = static_cast<T*>(handles(T::kind).erase(handle_bits(handle)));
+    if (object == nullptr) return;
     // The object may hold the last reference to the context; keep it alive
     // until its memory is returned.
     std::shared_ptr<const ContextState> context = context_of(*object);
-    unregister_handle(object);
     object->~T();
     context->deallocate(object, sizeof(T));
 }

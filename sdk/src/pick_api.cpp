@@ -15,8 +15,8 @@ Status with_scene(MeshState& state, const std::function<Status(const pick::Embre
     std::lock_guard<std::mutex> lock(state.mutex);
     const deform::MeshModel& model = *state.model;
     if (state.scene.empty()) {
-        if (Status s =
-                pick::EmbreeScene::create(model.mesh.positions, model.mesh.triangles, state.scene);
+        if (Status s = pick::EmbreeScene::create(model.mesh.positions, model.mesh.triangles,
+                                                 state.scene, state.context->pick_thread_count);
             !s) {
             return s;
         }
@@ -49,18 +49,19 @@ void fill_hit(const std::optional<pick::Hit>& hit, dfm_hit* out) {
 extern "C" DFM_API dfm_result dfm_mesh_pick(dfm_mesh* mesh, const dfm_camera* camera, double x,
                                             double y, dfm_hit* out) {
     constexpr const char* fn = "dfm_mesh_pick";
-    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
-    *out = dfm_hit{};
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
-    if (camera == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "camera is NULL");
-    if (!std::isfinite(x) || !std::isfinite(y)) {
-        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the pixel is not finite");
-    }
     return guarded(fn, [&] {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = dfm_hit{};
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (camera == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "camera is NULL");
+        if (!std::isfinite(x) || !std::isfinite(y)) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the pixel is not finite");
+        }
         const pick::Camera c = to_camera(*camera);
         if (Status s = pick::check_camera(c); !s) return report(fn, s);
         std::optional<pick::Hit> hit;
-        const Status s = with_scene(*mesh->state, [&](const pick::EmbreeScene& scene) {
+        const Status s = with_scene(*m->state, [&](const pick::EmbreeScene& scene) {
             return pick::pick_pixel(scene, c, {x, y}, hit);
         });
         if (!s) return report(fn, s);
@@ -72,13 +73,14 @@ extern "C" DFM_API dfm_result dfm_mesh_pick(dfm_mesh* mesh, const dfm_camera* ca
 extern "C" DFM_API dfm_result dfm_mesh_pick_ray(dfm_mesh* mesh, const double origin[3],
                                                 const double direction[3], dfm_hit* out) {
     constexpr const char* fn = "dfm_mesh_pick_ray";
-    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
-    *out = dfm_hit{};
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
-    if (origin == nullptr || direction == nullptr) {
-        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "origin or direction is NULL");
-    }
     return guarded(fn, [&] {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = dfm_hit{};
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (origin == nullptr || direction == nullptr) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "origin or direction is NULL");
+        }
         pick::Ray ray;
         ray.origin = {origin[0], origin[1], origin[2]};
         const glm::dvec3 d(direction[0], direction[1], direction[2]);
@@ -90,7 +92,7 @@ extern "C" DFM_API dfm_result dfm_mesh_pick_ray(dfm_mesh* mesh, const double ori
         }
         ray.direction = d / length;
         std::optional<pick::Hit> hit;
-        const Status s = with_scene(*mesh->state, [&](const pick::EmbreeScene& scene) {
+        const Status s = with_scene(*m->state, [&](const pick::EmbreeScene& scene) {
             return pick::pick_ray(scene, ray, hit);
         });
         if (!s) return report(fn, s);

@@ -13,6 +13,7 @@ dfm_result to_result(Errc code) {
         case Errc::unsupported: return DFM_ERROR_UNSUPPORTED;
         case Errc::out_of_memory: return DFM_ERROR_OUT_OF_MEMORY;
         case Errc::numerical: return DFM_ERROR_NUMERICAL;
+        case Errc::internal: return DFM_ERROR_INTERNAL;
     }
     return DFM_ERROR_INVALID_ARGUMENT;
 }
@@ -34,6 +35,7 @@ extern "C" DFM_API const char* dfm_result_name(dfm_result result) {
         case DFM_ERROR_BUSY: return "DFM_ERROR_BUSY";
         case DFM_ERROR_DEVICE: return "DFM_ERROR_DEVICE";
         case DFM_ERROR_CANCELLED: return "DFM_ERROR_CANCELLED";
+        case DFM_ERROR_INTERNAL: return "DFM_ERROR_INTERNAL";
     }
     return "DFM_ERROR_UNKNOWN";
 }

@@ -19,7 +19,7 @@ namespace {
 
 dfm_result make_roi(const std::shared_ptr<MeshState>& mesh, std::vector<std::uint32_t> vertices,
                     dfm_roi** out) {
-    *out = host_new<dfm_roi>(*mesh->context, Kind::roi, mesh, std::move(vertices));
+    *out = host_new<RoiObject>(*mesh->context, mesh, std::move(vertices));
     return DFM_OK;
 }
 
@@ -28,7 +28,7 @@ roi::SurfaceView surface_of(const deform::MeshModel& model) {
             model.vertex_face_offsets, model.vertex_faces};
 }
 
-dfm_result fill(const char* fn, dfm_mesh* mesh, std::uint32_t first, std::uint32_t last,
+dfm_result fill(const char* fn, MeshObject* mesh, std::uint32_t first, std::uint32_t last,
                 dfm_roi** out, dfm_water_fill_diagnosis* diagnosis) {
     const auto model = mesh->state->current();
     roi::WaterFill result;
@@ -67,11 +67,14 @@ extern "C" DFM_API dfm_result dfm_roi_water_fill(dfm_mesh* mesh, uint32_t first,
                                                  dfm_roi** out,
                                                  dfm_water_fill_diagnosis* diagnosis) {
     constexpr const char* fn = "dfm_roi_water_fill";
-    dfm_result r = DFM_OK;
-    if (!begin(fn, out, r)) return r;
-    if (diagnosis != nullptr) *diagnosis = dfm_water_fill_diagnosis{};
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
-    return guarded(fn, [&] { return fill(fn, mesh, first, last, out, diagnosis); });
+    return guarded(fn, [&] {
+        dfm_result r = DFM_OK;
+        if (!begin(fn, out, r)) return r;
+        if (diagnosis != nullptr) *diagnosis = dfm_water_fill_diagnosis{};
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        return guarded(fn, [&] { return fill(fn, m, first, last, out, diagnosis); });
+    });
 }
 
 extern "C" DFM_API dfm_result dfm_roi_water_fill_clicks(dfm_mesh* mesh, const dfm_camera* camera,
@@ -79,14 +82,15 @@ extern "C" DFM_API dfm_result dfm_roi_water_fill_clicks(dfm_mesh* mesh, const df
                                                         const double last_pixel[2], dfm_roi** out,
                                                         dfm_water_fill_diagnosis* diagnosis) {
     constexpr const char* fn = "dfm_roi_water_fill_clicks";
-    dfm_result r = DFM_OK;
-    if (!begin(fn, out, r)) return r;
-    if (diagnosis != nullptr) *diagnosis = dfm_water_fill_diagnosis{};
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
-    if (camera == nullptr || first_pixel == nullptr || last_pixel == nullptr) {
-        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "camera or a pixel is NULL");
-    }
     return guarded(fn, [&] {
+        dfm_result r = DFM_OK;
+        if (!begin(fn, out, r)) return r;
+        if (diagnosis != nullptr) *diagnosis = dfm_water_fill_diagnosis{};
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (camera == nullptr || first_pixel == nullptr || last_pixel == nullptr) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "camera or a pixel is NULL");
+        }
         const pick::Camera c = to_camera(*camera);
         if (Status s = pick::check_camera(c); !s) return report(fn, s);
         std::optional<pick::Hit> hits[2];
@@ -97,7 +101,7 @@ extern "C" DFM_API dfm_result dfm_roi_water_fill_clicks(dfm_mesh* mesh, const df
                     fn, DFM_ERROR_INVALID_ARGUMENT,
                     std::string(k == 0 ? "the first" : "the last") + " pixel is not finite");
             }
-            const Status s = with_scene(*mesh->state, [&](const pick::EmbreeScene& scene) {
+            const Status s = with_scene(*m->state, [&](const pick::EmbreeScene& scene) {
                 return pick::pick_pixel(scene, c, {pixels[k][0], pixels[k][1]}, hits[k]);
             });
             if (!s) return report(fn, s);
@@ -108,83 +112,88 @@ extern "C" DFM_API dfm_result dfm_roi_water_fill_clicks(dfm_mesh* mesh, const df
                                   std::to_string(pixels[k][1]) + ") misses the mesh");
             }
         }
-        return fill(fn, mesh, hits[0]->vertex, hits[1]->vertex, out, diagnosis);
+        return fill(fn, m, hits[0]->vertex, hits[1]->vertex, out, diagnosis);
     });
 }
 
 extern "C" DFM_API dfm_result dfm_roi_from_vertices(dfm_mesh* mesh, const uint32_t* vertices,
                                                     size_t count, dfm_roi** out) {
     constexpr const char* fn = "dfm_roi_from_vertices";
-    dfm_result r = DFM_OK;
-    if (!begin(fn, out, r)) return r;
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
-    if (vertices == nullptr && count > 0) {
-        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "vertices is NULL");
-    }
-    if (count == 0) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the list is empty");
     return guarded(fn, [&] {
-        const auto model = mesh->state->current();
+        dfm_result r = DFM_OK;
+        if (!begin(fn, out, r)) return r;
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (vertices == nullptr && count > 0) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "vertices is NULL");
+        }
+        if (count == 0) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the list is empty");
+        const auto model = m->state->current();
         std::vector<std::uint32_t> list;
         if (Status s = roi::select_vertices({vertices, count}, model->mesh.vertex_count(), list);
             !s) {
             return report(fn, s);
         }
-        return make_roi(mesh->state, std::move(list), out);
+        return make_roi(m->state, std::move(list), out);
     });
 }
 
 extern "C" DFM_API dfm_result dfm_roi_ball(dfm_mesh* mesh, uint32_t center, double radius,
                                            dfm_roi** out) {
     constexpr const char* fn = "dfm_roi_ball";
-    dfm_result r = DFM_OK;
-    if (!begin(fn, out, r)) return r;
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
-    if (!(radius >= 0.0) || !std::isfinite(radius)) {
-        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "radius must be finite and not negative");
-    }
     return guarded(fn, [&] {
-        const auto model = mesh->state->current();
+        dfm_result r = DFM_OK;
+        if (!begin(fn, out, r)) return r;
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (!(radius >= 0.0) || !std::isfinite(radius)) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "radius must be finite and not negative");
+        }
+        const auto model = m->state->current();
         std::vector<std::uint32_t> list;
         if (Status s = roi::select_ball(model->mesh.positions, model->vertex_neighbors, center,
                                         radius * model->diagonal, list);
             !s) {
             return report(fn, s);
         }
-        return make_roi(mesh->state, std::move(list), out);
+        return make_roi(m->state, std::move(list), out);
     });
 }
 
 extern "C" DFM_API dfm_result dfm_roi_all(dfm_mesh* mesh, dfm_roi** out) {
     constexpr const char* fn = "dfm_roi_all";
-    dfm_result r = DFM_OK;
-    if (!begin(fn, out, r)) return r;
-    if (!is_live(mesh, Kind::mesh)) return bad_handle(fn, "mesh", mesh);
     return guarded(fn, [&] {
-        std::vector<std::uint32_t> list(mesh->state->current()->mesh.vertex_count());
+        dfm_result r = DFM_OK;
+        if (!begin(fn, out, r)) return r;
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        std::vector<std::uint32_t> list(m->state->current()->mesh.vertex_count());
         for (std::size_t i = 0; i < list.size(); ++i) list[i] = static_cast<std::uint32_t>(i);
-        return make_roi(mesh->state, std::move(list), out);
+        return make_roi(m->state, std::move(list), out);
     });
 }
 
 extern "C" DFM_API dfm_result dfm_roi_grow(const dfm_roi* roi, int rings, dfm_roi** out) {
     constexpr const char* fn = "dfm_roi_grow";
-    dfm_result r = DFM_OK;
-    if (!begin(fn, out, r)) return r;
-    if (!is_live(roi, Kind::roi)) return bad_handle(fn, "roi", roi);
     return guarded(fn, [&] {
-        const auto model = roi->mesh->current();
+        dfm_result r = DFM_OK;
+        if (!begin(fn, out, r)) return r;
+        RoiObject* region = resolve_roi(roi);
+        if (region == nullptr) return bad_handle(fn, "roi", roi);
+        const auto model = region->mesh->current();
         std::vector<std::uint32_t> list;
         const Status s =
-            rings >= 0 ? roi::grow_rings(model->vertex_neighbors, roi->vertices,
+            rings >= 0 ? roi::grow_rings(model->vertex_neighbors, region->vertices,
                                          static_cast<std::uint32_t>(rings), list)
-                       : roi::shrink_rings(model->vertex_neighbors, roi->vertices,
+                       : roi::shrink_rings(model->vertex_neighbors, region->vertices,
                                            static_cast<std::uint32_t>(-(rings + 1)) + 1u, list);
         if (!s) return report(fn, s);
         if (list.empty()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT,
-                          "shrinking by " + std::to_string(-rings) + " rings leaves nothing");
+                          "shrinking by " + std::to_string(-static_cast<long long>(rings)) +
+                              " rings leaves nothing");
         }
-        return make_roi(roi->mesh, std::move(list), out);
+        return make_roi(region->mesh, std::move(list), out);
     });
 }
 
@@ -192,21 +201,23 @@ namespace {
 
 dfm_result set_operation(const char* fn, const dfm_roi* a, const dfm_roi* b, dfm_roi** out,
                          bool is_union) {
-    dfm_result r = DFM_OK;
-    if (!begin(fn, out, r)) return r;
-    if (!is_live(a, Kind::roi)) return bad_handle(fn, "a", a);
-    if (!is_live(b, Kind::roi)) return bad_handle(fn, "b", b);
-    if (a->mesh != b->mesh) {
-        return report(fn, DFM_ERROR_INVALID_ARGUMENT, "a and b belong to different meshes");
-    }
     return guarded(fn, [&] {
+        dfm_result r = DFM_OK;
+        if (!begin(fn, out, r)) return r;
+        const RoiObject* ra = resolve_roi(a);
+        if (ra == nullptr) return bad_handle(fn, "a", a);
+        const RoiObject* rb = resolve_roi(b);
+        if (rb == nullptr) return bad_handle(fn, "b", b);
+        if (ra->mesh != rb->mesh) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "a and b belong to different meshes");
+        }
         std::vector<std::uint32_t> list;
-        const std::size_t n = a->mesh->current()->mesh.vertex_count();
-        const Status s = is_union ? roi::roi_union(a->vertices, b->vertices, n, list)
-                                  : roi::roi_difference(a->vertices, b->vertices, n, list);
+        const std::size_t n = ra->mesh->current()->mesh.vertex_count();
+        const Status s = is_union ? roi::roi_union(ra->vertices, rb->vertices, n, list)
+                                  : roi::roi_difference(ra->vertices, rb->vertices, n, list);
         if (!s) return report(fn, s);
         if (list.empty()) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the result is empty");
-        return make_roi(a->mesh, std::move(list), out);
+        return make_roi(ra->mesh, std::move(list), out);
     });
 }
 
@@ -223,47 +234,53 @@ extern "C" DFM_API dfm_result dfm_roi_difference(const dfm_roi* a, const dfm_roi
 
 extern "C" DFM_API dfm_result dfm_roi_boundary(const dfm_roi* roi, dfm_roi** out) {
     constexpr const char* fn = "dfm_roi_boundary";
-    dfm_result r = DFM_OK;
-    if (!begin(fn, out, r)) return r;
-    if (!is_live(roi, Kind::roi)) return bad_handle(fn, "roi", roi);
     return guarded(fn, [&] {
+        dfm_result r = DFM_OK;
+        if (!begin(fn, out, r)) return r;
+        RoiObject* region = resolve_roi(roi);
+        if (region == nullptr) return bad_handle(fn, "roi", roi);
         std::vector<std::uint32_t> list;
-        if (Status s =
-                roi::boundary_vertices(roi->mesh->current()->vertex_neighbors, roi->vertices, list);
+        if (Status s = roi::boundary_vertices(region->mesh->current()->vertex_neighbors,
+                                              region->vertices, list);
             !s) {
             return report(fn, s);
         }
         if (list.empty()) {
             return report(fn, DFM_ERROR_NOT_FOUND, "the region has no boundary (it is everything)");
         }
-        return make_roi(roi->mesh, std::move(list), out);
+        return make_roi(region->mesh, std::move(list), out);
     });
 }
 
 extern "C" DFM_API dfm_result dfm_roi_count(const dfm_roi* roi, size_t* out) {
     constexpr const char* fn = "dfm_roi_count";
-    if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
-    *out = 0;
-    if (!is_live(roi, Kind::roi)) return bad_handle(fn, "roi", roi);
-    *out = roi->vertices.size();
-    return DFM_OK;
+    return guarded(fn, [&] {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = 0;
+        RoiObject* region = resolve_roi(roi);
+        if (region == nullptr) return bad_handle(fn, "roi", roi);
+        *out = region->vertices.size();
+        return DFM_OK;
+    });
 }
 
 extern "C" DFM_API dfm_result dfm_roi_read(const dfm_roi* roi, uint32_t* vertices,
                                            size_t capacity) {
     constexpr const char* fn = "dfm_roi_read";
-    if (!is_live(roi, Kind::roi)) return bad_handle(fn, "roi", roi);
-    if (vertices == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "vertices is NULL");
-    if (capacity < roi->vertices.size()) {
-        return report(fn, DFM_ERROR_INVALID_ARGUMENT,
-                      "room for " + std::to_string(capacity) + " vertices, " +
-                          std::to_string(roi->vertices.size()) + " needed");
-    }
-    std::copy(roi->vertices.begin(), roi->vertices.end(), vertices);
-    return DFM_OK;
+    return guarded(fn, [&] {
+        RoiObject* region = resolve_roi(roi);
+        if (region == nullptr) return bad_handle(fn, "roi", roi);
+        if (vertices == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "vertices is NULL");
+        if (capacity < region->vertices.size()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "room for " + std::to_string(capacity) + " vertices, " +
+                              std::to_string(region->vertices.size()) + " needed");
+        }
+        std::copy(region->vertices.begin(), region->vertices.end(), vertices);
+        return DFM_OK;
+    });
 }
 
 extern "C" DFM_API void dfm_roi_destroy(dfm_roi* roi) {
-    if (!is_live(roi, Kind::roi)) return;
-    host_delete(roi);
+    guarded_void("dfm_roi_destroy", [&] { host_delete<RoiObject>(roi); });
 }

@@ -211,7 +211,16 @@ TEST_CASE("session: session misuse is refused with a code and a message") {
     desc.groups = twice;
     desc.group_count = 2;
     CHECK(dfm_session_create(limb.mesh, &desc, &s) == DFM_ERROR_INVALID_ARGUMENT);
-    CHECK(message_has("earlier group"));
+    CHECK(message_has("handle group 1 entry 0"));
+    CHECK(message_has("is in group 0 too"));
+    const std::uint32_t repeated[] = {limb.tip[0], limb.tip[1], limb.tip[0]};
+    const dfm_handle_group repeating = {repeated, 3};
+    desc.groups = &repeating;
+    desc.group_count = 1;
+    CHECK(dfm_session_create(limb.mesh, &desc, &s) == DFM_ERROR_INVALID_ARGUMENT);
+    CHECK(message_has("handle group 0 entry 2"));
+    CHECK(message_has("repeats entry 0 of the same group"));
+    desc.groups = twice;
     desc.group_count = 1;
     desc.solver.tolerance = -1.0;
     CHECK(dfm_session_create(limb.mesh, &desc, &s) == DFM_ERROR_INVALID_ARGUMENT);
@@ -309,6 +318,9 @@ TEST_CASE("session: bake and undo and redo move the rest pose and stale sessions
     double m[16];
     translation(0.3, 0, 0, m);
     REQUIRE(dfm_session_set_group_transform(limb.session, 0, m) == DFM_OK);
+    std::uint64_t g = 0;
+    REQUIRE(dfm_session_submit(limb.session, &g) == DFM_OK);
+    REQUIRE(dfm_session_wait(limb.session, g, -1, nullptr) == DFM_OK);
     REQUIRE(dfm_session_bake(limb.session) == DFM_OK);
     dfm_mesh_info info = {};
     REQUIRE(dfm_mesh_get_info(limb.mesh, &info) == DFM_OK);
@@ -324,6 +336,8 @@ TEST_CASE("session: bake and undo and redo move the rest pose and stale sessions
     // A second edit on top of the first.
     translation(0, 0.1, 0, m);
     REQUIRE(dfm_session_set_group_transform(limb.session, 0, m) == DFM_OK);
+    REQUIRE(dfm_session_submit(limb.session, &g) == DFM_OK);
+    REQUIRE(dfm_session_wait(limb.session, g, -1, nullptr) == DFM_OK);
     REQUIRE(dfm_session_bake(limb.session) == DFM_OK);
     REQUIRE(dfm_mesh_undo_bake(limb.mesh) == DFM_OK);
     REQUIRE(dfm_mesh_read_positions(limb.mesh, &out_now) == DFM_OK);

@@ -3,13 +3,21 @@
 // Uses only the public C API. Builds a ball ROI of at least N vertices
 // (default 20000) on the model (default armadillo) with a small handle ball
 // at its centre, then measures, on the host thread:
-//   - set_group_transform + submit, poll, read_roi_positions (float) and
-//     read_positions (whole mesh), each timed per call while the worker is
-//     busy solving;
+//   - dfm_session_create: how long the call takes to return, and how long
+//     the set-up then runs on the session's worker (until dfm_session_wait
+//     for generation 0 returns), over 5 sessions;
+//   - submit alone on a small ROI (about 1000 vertices) whose worker is
+//     idle, asleep for 2 ms before each submit: the cost of waking it; and
+//     the CPU the idle worker uses while it looks for work (other threads'
+//     CPU time over 90 ms with nothing submitted, in percent of one core);
+//   - set_group_transform + submit, submit alone, poll, read_roi_positions
+//     (float) and read_positions (whole mesh), each timed per call while the
+//     worker is busy solving;
 //   - a 60 Hz drag of F frames (default 120): per frame, the latency from
 //     submitting new targets to the first finished frame of that generation
 //     or newer (a second thread blocks in dfm_session_wait);
-//   - cancel and destroy issued 5 ms into a long solve: time to return.
+//   - cancel and destroy issued 5 ms into a long solve, and destroy right
+//     after create (during the set-up): time to return.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -17,6 +25,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -28,6 +37,21 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// CPU time of the calling thread: on a loaded machine the wall time of a
+// short call is mostly other processes' turns.
+double thread_cpu_ms() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
+
+// CPU time of the whole process.
+double process_cpu_ms() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
 
 double ms_since(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
@@ -79,10 +103,11 @@ struct Edit {
     dfm_mesh_info info{};
 };
 
-dfm_session* start(const Edit& e, dfm_solver_settings solver) {
+dfm_session* start(const Edit& e, dfm_solver_settings solver, const dfm_roi* roi = nullptr) {
     const dfm_handle_group group = {e.handle.data(), e.handle.size()};
     dfm_session_desc desc = {};
-    desc.roi = e.roi;
+    desc.struct_size = sizeof desc;
+    desc.roi = roi != nullptr ? roi : e.roi;
     desc.groups = &group;
     desc.group_count = 1;
     desc.solver = solver;
@@ -144,24 +169,77 @@ int main(int argc, char** argv) {
     dfm_roi_destroy(handle);
 
     const double diag = e.info.diagonal;
-    auto setup_start = Clock::now();
     dfm_solver_settings drag = {};
     drag.tolerance = tolerance;
+    std::vector<double> create_return_ms, create_cpu_ms, setup_ms;
+    for (int round = 0; round < 5; ++round) {
+        const auto t = Clock::now();
+        const double cpu = thread_cpu_ms();
+        dfm_session* fresh = start(e, drag);
+        create_cpu_ms.push_back(thread_cpu_ms() - cpu);
+        create_return_ms.push_back(ms_since(t));
+        check(dfm_session_wait(fresh, 0, -1, nullptr), "wait for the set-up");
+        setup_ms.push_back(ms_since(t));
+        dfm_session_destroy(fresh);
+    }
     dfm_session* s = start(e, drag);
-    const double setup_ms = ms_since(setup_start);
+    check(dfm_session_wait(s, 0, -1, nullptr), "wait for the set-up");
+
+    // Submit with the worker idle: a small ROI, solved and asleep each time.
+    std::vector<double> submit_idle_us, idle_poll_cpu_percent;
+    {
+        dfm_roi* small = nullptr;
+        check(dfm_roi_ball(e.mesh, centre, 0.0, &small), "dfm_roi_ball");
+        for (std::size_t n = 0; n < 1000;) {
+            dfm_roi* grown = nullptr;
+            check(dfm_roi_grow(small, 1, &grown), "dfm_roi_grow");
+            dfm_roi_destroy(small);
+            small = grown;
+            dfm_roi_count(small, &n);
+        }
+        dfm_session* idle = start(e, drag, small);
+        check(dfm_session_wait(idle, 0, -1, nullptr), "wait for the set-up");
+        for (int i = 0; i < 2000; ++i) {
+            double m[16];
+            translation(0.001 * diag * (i % 50), 0.0, 0.0, m);
+            check(dfm_session_set_group_transform(idle, 0, m), "set_group_transform");
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+            std::uint64_t g = 0;
+            const auto t = Clock::now();
+            check(dfm_session_submit(idle, &g), "submit");
+            submit_idle_us.push_back(1000.0 * ms_since(t));
+            check(dfm_session_wait(idle, g, -1, nullptr), "wait");
+        }
+        // What the worker's looking for work costs: 90 ms after a solve,
+        // inside its 100 ms window, with nothing submitted.
+        for (int round = 0; round < 10; ++round) {
+            std::uint64_t g = 0;
+            check(dfm_session_submit(idle, &g), "submit");
+            check(dfm_session_wait(idle, g, -1, nullptr), "wait");
+            const auto t = Clock::now();
+            const double cpu = process_cpu_ms() - thread_cpu_ms();
+            std::this_thread::sleep_for(std::chrono::milliseconds(90));
+            idle_poll_cpu_percent.push_back(100.0 * (process_cpu_ms() - thread_cpu_ms() - cpu) /
+                                            ms_since(t));
+        }
+        dfm_session_destroy(idle);
+        dfm_roi_destroy(small);
+    }
 
     // Per-call costs while the worker is busy.
     std::vector<float> roi_xyz(3 * e.roi_size), mesh_xyz(3 * e.info.vertex_count);
     const dfm_vec3_output roi_out = {roi_xyz.data(), e.roi_size, 0, DFM_SCALAR_FLOAT32};
     const dfm_vec3_output mesh_out = {mesh_xyz.data(), e.info.vertex_count, 0, DFM_SCALAR_FLOAT32};
-    std::vector<double> submit_us, poll_us, read_roi_us, read_mesh_us, view_us;
+    std::vector<double> submit_us, submit_busy_us, poll_us, read_roi_us, read_mesh_us, view_us;
     for (int i = 0; i < 2000; ++i) {
         double m[16];
         translation(0.05 * diag * std::sin(0.01 * i), 0.02 * diag, 0.0, m);
         auto t = Clock::now();
         check(dfm_session_set_group_transform(s, 0, m), "set_group_transform");
         std::uint64_t g = 0;
+        const auto submit_start = Clock::now();
         check(dfm_session_submit(s, &g), "submit");
+        submit_busy_us.push_back(1000.0 * ms_since(submit_start));
         submit_us.push_back(1000.0 * ms_since(t));
         dfm_frame_info info{};
         t = Clock::now();
@@ -254,8 +332,16 @@ int main(int argc, char** argv) {
         cancel_ms.push_back(ms_since(t));
     }
     dfm_session_destroy(s);
+    std::vector<double> destroy_in_setup_ms;
+    for (int round = 0; round < 3; ++round) {
+        dfm_session* early = start(e, slow);
+        const auto t = Clock::now();
+        dfm_session_destroy(early);
+        destroy_in_setup_ms.push_back(ms_since(t));
+    }
     for (int round = 0; round < 3; ++round) {
         dfm_session* victim = start(e, slow);
+        check(dfm_session_wait(victim, 0, -1, nullptr), "wait for the set-up");
         double m[16];
         translation(0.1 * diag, 0.0, 0.0, m);
         check(dfm_session_set_group_transform(victim, 0, m), "set_group_transform");
@@ -269,10 +355,15 @@ int main(int argc, char** argv) {
 
     std::printf(
         "{\"model\": \"%s\", \"vertices\": %zu, \"roi\": %zu, \"handle\": %zu, "
-        "\"setup_ms\": %.1f, \"tolerance\": %g, \"drag_frames\": %d",
-        model.c_str(), e.info.vertex_count, e.roi_size, e.handle.size(), setup_ms, tolerance,
-        frames);
+        "\"tolerance\": %g, \"drag_frames\": %d",
+        model.c_str(), e.info.vertex_count, e.roi_size, e.handle.size(), tolerance, frames);
     const std::string fields[] = {
+        json("create_return", stats_of(create_return_ms), "ms"),
+        json("create_cpu", stats_of(create_cpu_ms), "ms"),
+        json("setup_on_worker", stats_of(setup_ms), "ms"),
+        json("submit_idle", stats_of(submit_idle_us), "us"),
+        json("idle_worker_cpu", stats_of(idle_poll_cpu_percent), "percent"),
+        json("submit_busy", stats_of(submit_busy_us), "us"),
         json("set_transform_submit", stats_of(submit_us), "us"),
         json("poll", stats_of(poll_us), "us"),
         json("read_roi_positions", stats_of(read_roi_us), "us"),
@@ -283,6 +374,7 @@ int main(int argc, char** argv) {
         json("finished_solve", stats_of(finished_iterations), "iterations"),
         json("cancel", stats_of(cancel_ms), "ms"),
         json("destroy", stats_of(destroy_ms), "ms"),
+        json("destroy_during_setup", stats_of(destroy_in_setup_ms), "ms"),
     };
     for (const std::string& field : fields) std::printf(",\n %s", field.c_str());
     std::printf("}\n");

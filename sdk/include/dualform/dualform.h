@@ -12,6 +12,19 @@
  *   the same thread. A successful call does not clear it.
  * - Descriptor structs are valid when zero-initialised ("= {0}"); a zero field
  *   takes the documented default.
+ * - Descriptors grow without breaking callers. Each begins with
+ *   `struct_size`: set it to sizeof the struct (0 stands for the size the
+ *   struct had in version 0.2, where the field appeared). The library reads
+ *   only struct_size bytes, so a caller built against an older, smaller
+ *   struct keeps working and the fields it lacks take their defaults; a
+ *   caller built against a newer, larger struct is accepted when the bytes
+ *   this library does not know are zero, and refused with
+ *   DFM_ERROR_UNSUPPORTED otherwise. Structs embedded in descriptors
+ *   (dfm_solver_settings) keep their size and grow into `reserved`, which
+ *   must be zero.
+ * - Handles are values, not addresses: an index and a generation. A
+ *   destroyed handle is refused with DFM_ERROR_INVALID_HANDLE for ever, even
+ *   after its memory serves a new object.
  * - dfm_X_destroy(NULL) is a no-op.
  * - Nothing throws across this boundary, and nothing aborts on bad input.
  */
@@ -24,6 +37,8 @@
 
 #include "dualform/version.h"
 
+/* Marks the library's exported functions: empty for the static library
+ * (define DFM_STATIC), default visibility while building the shared one. */
 #if defined(DFM_STATIC)
 #define DFM_API
 #elif defined(DFM_BUILDING_LIBRARY)
@@ -51,7 +66,8 @@ typedef enum dfm_result {
     DFM_ERROR_INVALID_HANDLE = 9,   /* a handle already destroyed, or of the wrong kind */
     DFM_ERROR_BUSY = 10,            /* the object is in use in a way that forbids the call */
     DFM_ERROR_DEVICE = 11,          /* the graphics device failed (renderer only) */
-    DFM_ERROR_CANCELLED = 12        /* the work was cancelled before it finished */
+    DFM_ERROR_CANCELLED = 12,       /* the work was cancelled before it finished */
+    DFM_ERROR_INTERNAL = 13         /* a defect of Dualform's; the message says where */
 } dfm_result;
 
 /* The name of a result code ("DFM_ERROR_PARSE"); never NULL. Thread-safe. */
@@ -68,6 +84,15 @@ DFM_API dfm_result dfm_last_error_code(void);
 /* DFM_VERSION of the library actually linked (may differ from the header's). Never fails;
  * thread-safe. */
 DFM_API uint32_t dfm_version(void);
+
+/* Whether this library can serve a caller compiled against the header of
+ * version `header_version`: the same major version and, before 1.0, the same
+ * minor one; from 1.0 on, a library minor at least the header's. Hosts check
+ * once at start-up with DFM_VERSION_MATCHES(). Never fails; thread-safe. */
+DFM_API bool dfm_version_compatible(uint32_t header_version);
+
+/* Whether the library loaded at run time serves this header's version. */
+#define DFM_VERSION_MATCHES() dfm_version_compatible(DFM_VERSION)
 
 /* ---------------------------------------------------------------- camera */
 
@@ -115,13 +140,16 @@ typedef struct dfm_vec3_output {
 
 typedef struct dfm_context dfm_context;
 
-/* Host memory hooks for every object the C API creates (contexts, meshes,
- * ROIs, sessions). alloc returns memory aligned to `alignment` (a power of two
- * up to 64) or NULL on failure, which the call reports as
- * DFM_ERROR_OUT_OF_MEMORY. free receives the size that was allocated. The
- * engine's working arrays use the C++ global allocator; its failures are
- * reported the same way. Both hooks may be called from any thread,
- * including session workers. */
+/* Host memory hooks. They serve exactly: the object behind every handle
+ * (context, mesh, ROI, session), the context's and each mesh's state
+ * record, and each rest-pose model record (not its arrays). Every array
+ * (positions, triangles, adjacency, ROIs, the solver's rows and factor,
+ * frames, the pick scene) comes from the C++ global allocator (operator
+ * new, which a host may replace); its failures are reported the same way.
+ * alloc returns memory aligned to `alignment` (a power of two up to 64) or
+ * NULL on failure, which the call reports as DFM_ERROR_OUT_OF_MEMORY. free
+ * receives the size that was allocated. Both hooks may be called from any
+ * thread, including session workers. */
 typedef struct dfm_allocator {
     void* (*alloc)(void* user, size_t size, size_t alignment); /* NULL on failure */
     void (*free)(void* user, void* memory, size_t size);       /* size as allocated */
@@ -151,12 +179,24 @@ typedef void (*dfm_log_fn)(void* user, dfm_log_level level, dfm_log_id id, const
 
 /* How a context is made; zero-initialised, every field takes its default. */
 typedef struct dfm_context_desc {
+    uint32_t struct_size; /* sizeof(dfm_context_desc); see the conventions */
+    /* DFM_VERSION of the header the caller was built with: the context is
+     * refused (DFM_ERROR_UNSUPPORTED) unless dfm_version_compatible(). 0:
+     * not checked. */
+    uint32_t header_version;
     dfm_allocator allocator; /* both hooks NULL: malloc/free */
     dfm_log_fn log;          /* NULL: no logging */
     void* log_user;          /* passed to `log` */
     /* Threads each session's solver uses for its factor and solves, its
-     * worker thread included; 0 means 1. Results do not depend on it. */
+     * worker thread included; 0 means 1. Results do not depend on it. A
+     * session starts its worker ("dfm-session") and worker_count - 1
+     * solver threads ("dfm-solver"), and stops them when destroyed. */
     uint32_t worker_count;
+    /* Threads of the Embree device that picking builds (once per mesh, on
+     * the first pick or click fill): 1 keeps the build on the calling
+     * thread; 0 lets Embree start one per hardware thread (its default,
+     * named by Embree). At most 1024. */
+    uint32_t pick_thread_count;
     /* The folder in which dfm_mesh_load finds "model:NAME" (as NAME.off);
      * copied at creation. NULL or "": no folder, and model:NAME is
      * DFM_ERROR_NOT_FOUND. The library reads no environment variable: a host
@@ -181,6 +221,7 @@ typedef struct dfm_mesh dfm_mesh;
  * arrays after the call). Indices: triangle t's corners are the three
  * uint32_t at (const char*)indices + t * index_stride (0: packed, 12 bytes). */
 typedef struct dfm_mesh_desc {
+    uint32_t struct_size;     /* sizeof(dfm_mesh_desc); see the conventions */
     dfm_vec3_input positions; /* the vertices */
     const uint32_t* indices;  /* three vertex indices per triangle */
     size_t triangle_count;    /* number of triangles */
@@ -234,6 +275,20 @@ DFM_API dfm_result dfm_mesh_read_indices(const dfm_mesh* mesh, uint32_t* indices
 
 /* Area-weighted unit vertex normals of the rest pose. Thread-safe. */
 DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh, const dfm_vec3_output* out);
+
+/* The same as dfm_mesh_read_indices in 16 bits, for meshes of at most 65,536
+ * vertices (DFM_ERROR_OUT_OF_RANGE otherwise, writing nothing). Thread-safe. */
+DFM_API dfm_result dfm_mesh_read_indices16(const dfm_mesh* mesh, uint16_t* indices,
+                                           size_t capacity);
+
+/* Replaces the rest pose with the host's positions (vertex_count of them;
+ * the triangles stay), as a new step of the bake history: undo brings the
+ * previous pose back, and what could be redone is forgotten. Sessions
+ * created before keep editing the shape they started from and can no longer
+ * bake (DFM_ERROR_BUSY, as after another session's bake): create new ones.
+ * A non-finite position is DFM_ERROR_NUMERICAL (the message names the
+ * vertex) and changes nothing. Thread-safe. */
+DFM_API dfm_result dfm_mesh_set_positions(dfm_mesh* mesh, const dfm_vec3_input* positions);
 
 /* Takes back the last bake: the rest pose before it returns. Sessions created
  * before keep working on the shape they started from, but can no longer
@@ -350,13 +405,15 @@ typedef enum dfm_method {
     DFM_METHOD_PAPER = 2             /* Au et al.: l_f = -h_f n_f from each new dual 1-ring */
 } dfm_method;
 
-/* Zero means the default. */
+/* Zero means the default. Later settings take `reserved` words, which must
+ * be zero (DFM_ERROR_UNSUPPORTED otherwise). */
 typedef struct dfm_solver_settings {
     double tolerance;        /* largest vertex update / diagonal that ends it; 1e-5 */
     uint32_t max_iterations; /* 100 */
     double handle_weight;    /* weight of the soft handle rows; 1 */
     bool hard_handles;       /* handles met exactly instead of weighted */
     dfm_method method;       /* DFM_METHOD_FITTED_ROTATIONS */
+    uint32_t reserved[7];    /* zero */
 } dfm_solver_settings;
 
 /* A group of handle vertices that move together (one transform). */
@@ -365,17 +422,38 @@ typedef struct dfm_handle_group {
     size_t count;             /* at least one */
 } dfm_handle_group;
 
+/* What a frame is (defined below). */
+typedef struct dfm_frame_info dfm_frame_info;
+
+/* Called on the thread that published a frame (the session's worker; the
+ * caller's thread for dfm_session_solve), after it is published and
+ * before the next one can be: partial, finished and set-up frames alike.
+ * `info` lives only during the call. The callback may poll, read, acquire
+ * and release frames of the session, and submit; it must not call cancel,
+ * solve, set_solver, bake or destroy on the same session (they wait for
+ * the thread that is running the callback), and must not throw. Keep it
+ * short: the worker does not solve while it runs. */
+typedef void (*dfm_frame_ready_fn)(void* user, dfm_session* session, const dfm_frame_info* info);
+
 /* One edit: the region, its handle groups and the solver's settings. */
 typedef struct dfm_session_desc {
+    uint32_t struct_size;           /* sizeof(dfm_session_desc); see the conventions */
     const dfm_roi* roi;             /* required; created on the same mesh */
     const dfm_handle_group* groups; /* group_count groups; group g is transform g */
     size_t group_count;             /* at least one */
     dfm_solver_settings solver;     /* zero fields: the defaults */
+    dfm_frame_ready_fn on_frame;    /* NULL: none */
+    void* on_frame_user;            /* passed to on_frame */
 } dfm_session_desc;
 
-/* Sets up one edit: assembles and factors the ROI's system and starts the
- * session's worker thread. Handle vertices must lie in the ROI, each in one
- * group (errors name the group and vertex). The session starts at the rest
+/* Starts one edit and returns at once: the handle groups are checked here
+ * (handle vertices must lie in the ROI, each once, in one group; errors name
+ * the group and vertex), then the set-up (assembly, ordering, factorization)
+ * runs on the session's new worker thread. Until it ends, frames show the
+ * rest pose with `preparing` set, submitted targets wait for it, and cancel
+ * and destroy work as usual (destroy waits for the set-up to end). A set-up
+ * that fails (out of memory, a singular system) is reported in the next
+ * frame's status and by every later submit. The session starts at the rest
  * pose with every group's transform the identity. It holds its mesh alive.
  * *out is owned by the caller. Thread-safe. */
 DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_session_desc* desc,
@@ -424,16 +502,17 @@ DFM_API dfm_result dfm_session_solve(dfm_session* session, uint64_t* generation)
 DFM_API dfm_result dfm_session_cancel(dfm_session* session);
 
 /* What a frame is. */
-typedef struct dfm_frame_info {
+struct dfm_frame_info {
     uint64_t generation; /* the targets' generation; 0 = the start state */
     dfm_result status;   /* DFM_ERROR_NUMERICAL: broke down, last good positions */
     bool converged;      /* the tolerance was met before the iteration cap */
     bool partial;        /* stopped early for newer targets */
-    uint32_t iterations; /* of the two-step method */
+    uint32_t iterations; /* of the outer iteration */
     double last_update;  /* largest vertex move of the last iteration / diagonal */
     double solve_ms;     /* wall time of the solve, in milliseconds */
     uint64_t checksum;   /* FNV-1a of the frame's ROI positions as doubles */
-} dfm_frame_info;
+    bool preparing;      /* the set-up still runs: the rest pose, nothing solved yet */
+};
 
 /* The newest published frame's info, and whether it is newer than
  * `known_generation`: the host's cheap per-frame check. Never blocks on the
@@ -441,9 +520,10 @@ typedef struct dfm_frame_info {
 DFM_API dfm_result dfm_session_poll(dfm_session* session, uint64_t known_generation,
                                     dfm_frame_info* out, bool* is_new);
 
-/* Waits (no spinning) until a finished frame of generation >= `generation`
- * is published: DFM_OK. DFM_ERROR_CANCELLED if that generation was cancelled,
- * DFM_ERROR_BUSY on timeout (timeout_ms < 0: no limit). `out` may be NULL. */
+/* Waits (no spinning) until the set-up has ended and a finished frame of
+ * generation >= `generation` is published: DFM_OK. Generation 0 (or, after a
+ * bake, the baked frame's) waits for the set-up alone. DFM_ERROR_CANCELLED if that generation was
+ * cancelled, DFM_ERROR_BUSY on timeout (timeout_ms < 0: no limit). `out` may be NULL. */
 DFM_API dfm_result dfm_session_wait(dfm_session* session, uint64_t generation, int64_t timeout_ms,
                                     dfm_frame_info* out);
 
@@ -463,6 +543,31 @@ DFM_API dfm_result dfm_session_read_normals(dfm_session* session, const dfm_vec3
 DFM_API dfm_result dfm_session_read_roi_positions(dfm_session* session, const dfm_vec3_output* out,
                                                   dfm_frame_info* info);
 
+/* The host's own vertex buffer, interleaved: vertex i starts at
+ * (char*)data + i * stride; its position (float x y z) lies at
+ * position_offset within it and its unit normal (float x y z) at
+ * normal_offset. Other bytes are never touched. */
+typedef struct dfm_vertex_output {
+    uint32_t struct_size; /* sizeof(dfm_vertex_output); see the conventions */
+    void* data;             /* the host's buffer; vertex i at (char*)data + i * stride */
+    size_t count;           /* capacity in vertices: at least the mesh's vertex_count */
+    size_t stride;          /* at least 12 bytes past each field written */
+    size_t position_offset; /* bytes from a vertex's start to its float x y z position */
+    size_t normal_offset;   /* bytes from a vertex's start to its float x y z normal */
+    bool write_positions;   /* write the positions */
+    bool write_normals;     /* write the normals */
+    /* Only what the session can change: the ROI's positions and the normals
+     * the edit changes; the host keeps the rest from an earlier full read. */
+    bool changed_only;
+} dfm_vertex_output;
+
+/* Writes the newest frame's positions and normals into the host's
+ * interleaved buffer in one call, both from the same frame (rest values
+ * for the vertices the session does not move, unless changed_only), and
+ * its info into `info` (may be NULL). Thread safety as the other reads. */
+DFM_API dfm_result dfm_session_read_vertices(dfm_session* session, const dfm_vertex_output* out,
+                                             dfm_frame_info* info);
+
 /* A frame lent to the host without copying: the newest frame's arrays, valid
  * until dfm_session_release_frame. All pointers belong to the session. */
 typedef struct dfm_frame_view {
@@ -472,7 +577,7 @@ typedef struct dfm_frame_view {
     size_t roi_count;                /* entries of the three roi_ arrays */
     const float* normals;            /* x y z unit normal per entry of normal_vertices */
     const uint32_t* normal_vertices; /* every vertex whose normal the edit changes */
-    size_t normal_count;             /* entries of normals and normal_vertices */
+    size_t normal_count;             /* entries of normals and normal_vertices; 0 while preparing */
 } dfm_frame_view;
 
 /* Lends the newest frame: the cheapest read, constant time whatever the ROI
@@ -485,13 +590,26 @@ DFM_API dfm_result dfm_session_acquire_frame(dfm_session* session, dfm_frame_vie
 /* Gives the held frame back. DFM_ERROR_INVALID_ARGUMENT when none is held. */
 DFM_API dfm_result dfm_session_release_frame(dfm_session* session);
 
-/* Bakes the newest finished frame into the mesh's rest pose (undoable with
- * dfm_mesh_undo_bake), then restarts the session on the new rest pose with
- * the same ROI and groups and identity transforms. DFM_ERROR_BUSY when the
- * mesh has changed since the session was created (another bake or an undo),
- * or while a frame is held (dfm_session_acquire_frame).
+/* Bakes the newest finished frame, exactly as published (never a new
+ * solve; staged targets are not looked at), into the mesh's rest pose
+ * (undoable with dfm_mesh_undo_bake). Queued and running solves are
+ * dropped. The session then restarts on the new rest pose with the same
+ * ROI and groups and identity transforms: its set-up runs on the worker as
+ * at creation (frames report `preparing`), and generations go on growing:
+ * the restarted session's first frame carries the baked frame's
+ * generation, and the next submit a generation above every earlier one.
+ * DFM_ERROR_BUSY when the mesh has changed since the session was created
+ * (another bake or an undo), while a frame is held
+ * (dfm_session_acquire_frame), or while the session is preparing; a
+ * session whose set-up failed reports that failure.
  * Not concurrent with other calls on the session. */
 DFM_API dfm_result dfm_session_bake(dfm_session* session);
+
+/* The same for the finished frame of generation `generation`, which must
+ * be the newest finished frame (the one the host last saw finish):
+ * DFM_ERROR_NOT_FOUND when a newer finished frame has replaced it (the
+ * message gives the newest); 0 means the newest finished frame. */
+DFM_API dfm_result dfm_session_bake_generation(dfm_session* session, uint64_t generation);
 
 /* ================================================================ reports
  * What a tool needs to report an edit as docs/scenarios.md describes it
@@ -578,6 +696,7 @@ typedef enum dfm_ply_encoding {
 
 /* Options of dfm_mesh_save_with_options; zero: dfm_mesh_save's output. */
 typedef struct dfm_save_options {
+    uint32_t struct_size;          /* sizeof(dfm_save_options); see the conventions */
     dfm_ply_encoding ply_encoding; /* PLY only */
     bool ply_float;                /* PLY coordinates as float (default double, exact) */
     bool obj_normals;              /* OBJ: area-weighted vertex normals, faces as v//vn */
