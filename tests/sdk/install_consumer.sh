@@ -10,6 +10,23 @@
 set -euo pipefail
 build=$1 source=$2 work=$3 soversion=$4
 
+# The sample drags without waiting, so which intermediate frames get solved
+# (and so the last solve's start) depends on timing: its results agree to
+# the solver's tolerance, not bit for bit. Same counts and faces, vertices
+# within 1e-4 of the cow's unit-sized bounding box.
+same_mesh() {
+  awk 'NR == FNR { a[FNR] = $0; next }
+       { n = split(a[FNR], x); m = split($0, y)
+         if (n != m) { print "line " FNR " differs: " a[FNR] " / " $0; bad = 1; exit }
+         for (i = 1; i <= n; ++i) {
+           d = x[i] - y[i]; if (d < 0) d = -d
+           if (x[i] "" != y[i] "" && (x[i] !~ /^[-0-9.e+]+$/ || d > 1e-4)) {
+             print "line " FNR " differs: " a[FNR] " / " $0; bad = 1; exit
+           }
+         } }
+       END { if (!bad && FNR != length(a)) { print "line counts differ"; bad = 1 }; exit bad }' "$1" "$2"
+}
+
 rm -rf "$work"
 mkdir -p "$work"
 cmake --install "$build" --prefix "$work/prefix" >"$work/install.log"
@@ -20,7 +37,7 @@ cmake -S "$source/samples/c_minimal" -B "$work/cmake" -DCMAKE_PREFIX_PATH="$work
 cmake --build "$work/cmake" -j 2 >"$work/build.log"
 "$work/cmake/c_minimal" model:cow "$work/cow-shared.off"
 "$work/cmake/c_minimal_static" model:cow "$work/cow-static.off"
-cmp "$work/cow-shared.off" "$work/cow-static.off"
+same_mesh "$work/cow-shared.off" "$work/cow-static.off"
 
 echo "== pkg-config"
 pc=$(dirname "$(find "$work/prefix" -name dualform.pc)")
@@ -30,7 +47,7 @@ libdir=$(PKG_CONFIG_PATH=$pc pkg-config --variable=libdir dualform)
 cc -std=c99 -Wall -Wextra -pedantic -Werror "$source/samples/c_minimal/main.c" $flags \
    -Wl,-rpath,"$libdir" -o "$work/c_minimal_pc"
 "$work/c_minimal_pc" model:cow "$work/cow-pc.off"
-cmp "$work/cow-shared.off" "$work/cow-pc.off"
+same_mesh "$work/cow-shared.off" "$work/cow-pc.off"
 
 echo "== exported symbols"
 bad=$(nm -D --defined-only "$libdir/libdualform.so" | awk '{print $3}' | grep -v '^dfm_' || true)
