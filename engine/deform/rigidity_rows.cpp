@@ -31,14 +31,8 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
                            SystemRows& rows) {
     const mesh::Mesh& mesh = model.mesh;
     const std::size_t dual_rows = rows.size();
-    weight_ = weight;
-    first_row_ = dual_rows;
-    faces_.assign(rows.faces.begin(), rows.faces.end());
-    rest_dual_.resize(dual_rows);
-    rigid_offsets_.assign(1, 0);
-    rest_vectors_.clear();
-    rotations_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
-    saved_ = rotations_;
+    std::vector<std::uint32_t> rigid_offsets(1, 0);
+    std::vector<glm::dvec3> rest_vectors;  // per rigidity row, w s (v_c − v_d)⁰
     std::vector<glm::dvec3> rest(mesh.face_count());
     dual::compute_centroids(mesh, mesh.positions, rest);
     auto add = [&](std::uint32_t c, std::uint32_t d, double scale, std::uint32_t f) {
@@ -49,7 +43,7 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
         rows.entries.push_back({c, uc, weight * scale});
         rows.entries.push_back({d, ud, -weight * scale});
         rows.entry_offsets.push_back(static_cast<std::uint32_t>(rows.entries.size()));
-        rest_vectors_.push_back(scale * (mesh.positions[c] - mesh.positions[d]));
+        rest_vectors.push_back(weight * scale * (mesh.positions[c] - mesh.positions[d]));
     };
     // Edge rows are relative: a needle's short edge gets the weight of its
     // shortness. Lengths alone would let needles (the camel's head has edges
@@ -60,9 +54,8 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
     }
     mean_edge /= static_cast<double>(std::max<std::size_t>(model.topology.edges.size(), 1));
     for (std::size_t r = 0; r < dual_rows; ++r) {
-        const std::uint32_t f = faces_[r];
+        const std::uint32_t f = rows.faces[r];
         const mesh::Triangle& t = mesh.triangles[f];
-        rest_dual_[r] = dual::dual_coordinate(model.dual, rest, f);
         if (weight > 0.0) {
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t j = model.dual.neighbors[f][k];
@@ -75,99 +68,129 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
                 if (length > 0.0) add(a, b, relative_edge_weight * mean_edge / length, f);
             }
         }
-        rigid_offsets_.push_back(static_cast<std::uint32_t>(rest_vectors_.size()));
+        rigid_offsets.push_back(static_cast<std::uint32_t>(rest_vectors.size()));
     }
-}
 
-namespace {
-
-// Row r's product with the positions, whole and its fixed part alone.
-struct RowProduct {
-    glm::dvec3 whole{0.0};
-    glm::dvec3 fixed{0.0};
-};
-
-RowProduct row_product(const SystemRows& rows, std::size_t r,
-                       std::span<const glm::dvec3> positions) {
-    RowProduct out;
-    for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
-        const RowEntry& e = rows.entries[p];
-        const glm::dvec3 term = e.coefficient * positions[e.vertex];
-        out.whole += term;
-        if (e.unknown == mesh::no_index) out.fixed += term;
+    stencils_.assign(dual_rows, Stencil{});
+    fixed_.clear();
+    for (std::size_t r = 0; r < dual_rows; ++r) {
+        Stencil& s = stencils_[r];
+        s.rest_dual = dual::dual_coordinate(model.dual, rest, rows.faces[r]);
+        s.rest_dual2 = glm::dot(s.rest_dual, s.rest_dual);
+        // The coefficients b_ki of every row of this dual row, by slot.
+        std::array<std::array<double, slots>, pairs + 1> b{};
+        std::size_t used = 0;
+        for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
+            const RowEntry& e = rows.entries[p];
+            s.vertex[used] = e.vertex;
+            s.unknown[used] = e.unknown;
+            s.dual[used] = e.coefficient;
+            b[0][used] = e.coefficient;
+            ++used;
+        }
+        for (std::size_t i = used; i < slots; ++i) {
+            s.vertex[i] = s.vertex[0];
+            s.unknown[i] = mesh::no_index;
+        }
+        // A rigidity row joins two vertices of f's dual 1-ring, which are
+        // all in the dual row.
+        auto slot_of = [&](std::uint32_t v) {
+            std::size_t i = 0;
+            while (i + 1 < used && s.vertex[i] != v) ++i;
+            return static_cast<std::uint8_t>(i);
+        };
+        const std::uint32_t first = rigid_offsets[r];
+        for (std::uint32_t k = 0; k < rigid_offsets[r + 1] - first; ++k) {
+            const std::size_t row = dual_rows + first + k;
+            const RowEntry& c = rows.entries[rows.entry_offsets[row]];
+            const RowEntry& d = rows.entries[rows.entry_offsets[row] + 1];
+            s.pair[k] = {slot_of(c.vertex), slot_of(d.vertex)};
+            s.pair_weight2[k] = c.coefficient * c.coefficient;
+            s.pair_target2 += glm::dot(rest_vectors[first + k], rest_vectors[first + k]);
+            for (int x = 0; x < 3; ++x) {
+                s.pulled[x][s.pair[k][0]] += c.coefficient * rest_vectors[first + k][x];
+                s.pulled[x][s.pair[k][1]] += d.coefficient * rest_vectors[first + k][x];
+            }
+            b[k + 1][s.pair[k][0]] += c.coefficient;
+            b[k + 1][s.pair[k][1]] += d.coefficient;
+        }
+        for (std::size_t i = 0; i < used; ++i) {
+            if (s.unknown[i] == mesh::no_index) continue;
+            for (std::size_t j = 0; j < used; ++j) {
+                if (s.unknown[j] != mesh::no_index) continue;
+                double coupling = 0.0;
+                for (const auto& row : b) coupling += row[i] * row[j];
+                if (coupling != 0.0) fixed_.push_back({s.unknown[i], s.vertex[j], -coupling});
+            }
+        }
     }
-    return out;
+    kept_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
+    fitted_ = kept_;
 }
 
-// Adds row r's share of Aᵀ (t − A_fixed p_fixed) to rhs; returns |A p − t|².
-double assemble_row(const SystemRows& rows, std::size_t r, const RowProduct& product,
-                    const glm::dvec3& target, std::span<double> rhs) {
-    const glm::dvec3 b = target - product.fixed;
-    for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
-        const RowEntry& e = rows.entries[p];
-        if (e.unknown == mesh::no_index) continue;
-        for (int c = 0; c < 3; ++c) rhs[3 * e.unknown + c] += e.coefficient * b[c];
-    }
-    const glm::dvec3 residual = product.whole - target;
-    return glm::dot(residual, residual);
-}
-
-// The same for a rigidity row, whose two entries are known to be there.
-RowProduct pair_product(const SystemRows& rows, std::size_t r,
-                        std::span<const glm::dvec3> positions) {
-    const RowEntry& a = rows.entries[rows.entry_offsets[r]];
-    const RowEntry& b = rows.entries[rows.entry_offsets[r] + 1];
-    const glm::dvec3 ta = a.coefficient * positions[a.vertex];
-    const glm::dvec3 tb = b.coefficient * positions[b.vertex];
-    RowProduct out;
-    out.whole = ta + tb;
-    if (a.unknown == mesh::no_index) out.fixed += ta;
-    if (b.unknown == mesh::no_index) out.fixed += tb;
-    return out;
-}
-
-double assemble_pair(const SystemRows& rows, std::size_t r, const RowProduct& product,
-                     const glm::dvec3& target, std::span<double> rhs) {
-    const glm::dvec3 b = target - product.fixed;
-    for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r] + 2; ++p) {
-        const RowEntry& e = rows.entries[p];
-        if (e.unknown == mesh::no_index) continue;
-        double* out = &rhs[3 * e.unknown];
-        out[0] += e.coefficient * b.x;
-        out[1] += e.coefficient * b.y;
-        out[2] += e.coefficient * b.z;
-    }
-    const glm::dvec3 residual = product.whole - target;
-    return glm::dot(residual, residual);
-}
-
-}  // namespace
-
-double RotationFrames::fit_and_assemble(const SystemRows& rows,
-                                        std::span<const glm::dvec3> positions,
+double RotationFrames::fit_and_assemble(std::span<const glm::dvec3> positions,
                                         std::span<const double> height_scale, int steps,
                                         std::span<double> rhs) {
     std::fill(rhs.begin(), rhs.end(), 0.0);
+    for (const FixedCoupling& c : fixed_) {
+        const glm::dvec3& p = positions[c.vertex];
+        double* out = &rhs[3 * c.unknown];
+        out[0] += c.coefficient * p.x;
+        out[1] += c.coefficient * p.y;
+        out[2] += c.coefficient * p.z;
+    }
     double energy = 0.0;
-    std::array<RowProduct, max_rigidity_rows> rigid{};
-    for (std::size_t r = 0; r < faces_.size(); ++r) {
+    for (std::size_t r = 0; r < stencils_.size(); ++r) {
+        const Stencil& s = stencils_[r];
         const double scale = height_scale.empty() ? 1.0 : height_scale[r];
-        const glm::dvec3 rest_dual = scale * rest_dual_[r];
-        const RowProduct dual = row_product(rows, r, positions);
-        glm::dmat3 covariance = glm::outerProduct(dual.whole, rest_dual);
-        const std::uint32_t first = rigid_offsets_[r];
-        const std::uint32_t count = rigid_offsets_[r + 1] - first;
-        for (std::uint32_t k = 0; k < count; ++k) {
-            rigid[k] = pair_product(rows, first_row_ + first + k, positions);
-            // The row holds w times the vector: w² in the covariance.
-            covariance += weight_ * glm::outerProduct(rigid[k].whole, rest_vectors_[first + k]);
+        const glm::dvec3 rest_dual = scale * s.rest_dual;
+        std::array<std::array<double, slots>, 3> p;  // by coordinate
+        std::array<std::array<double, slots>, 3> g;
+        for (std::size_t i = 0; i < slots; ++i) {
+            const glm::dvec3& v = positions[s.vertex[i]];
+            p[0][i] = v.x;
+            p[1][i] = v.y;
+            p[2][i] = v.z;
         }
-        fit_rotation(covariance, rotations_[r], steps);
-        const glm::dmat3 rotation = glm::mat3_cast(rotations_[r]);
-        energy += assemble_row(rows, r, dual, rotation * rest_dual, rhs);
-        for (std::uint32_t k = 0; k < count; ++k) {
-            energy += assemble_pair(rows, first_row_ + first + k, rigid[k],
-                                    weight_ * (rotation * rest_vectors_[first + k]), rhs);
+        glm::dvec3 dual(0.0);
+        for (int x = 0; x < 3; ++x) {
+            for (std::size_t i = 0; i < slots; ++i) {
+                dual[x] += s.dual[i] * p[x][i];
+                g[x][i] = s.pulled[x][i] + s.dual[i] * rest_dual[x];
+            }
+        }
+        // Σ_i G_i = 0 (every row's coefficients sum to zero): positions
+        // relative to the first slot give the same covariance, with less
+        // cancellation.
+        glm::dmat3 covariance(0.0);
+        for (int row = 0; row < 3; ++row) {
+            for (int column = 0; column < 3; ++column) {
+                double sum = 0.0;
+                for (std::size_t i = 1; i < slots; ++i) {
+                    sum += (p[row][i] - p[row][0]) * g[column][i];
+                }
+                covariance[column][row] = sum;
+            }
+        }
+        glm::dquat q = kept_[r];
+        const RotationFit fit = fit_rotation(covariance, q, steps);
+        fitted_[r] = q;
+        double rows2 = glm::dot(dual, dual);
+        for (std::size_t k = 0; k < pairs; ++k) {
+            const std::uint8_t c = s.pair[k][0];
+            const std::uint8_t d = s.pair[k][1];
+            const glm::dvec3 e(p[0][c] - p[0][d], p[1][c] - p[1][d], p[2][c] - p[2][d]);
+            rows2 += s.pair_weight2[k] * glm::dot(e, e);
+        }
+        energy += rows2 - 2.0 * fit.alignment + scale * scale * s.rest_dual2 + s.pair_target2;
+        const glm::dmat3& rotation = fit.rotation;
+        for (std::size_t i = 0; i < slots; ++i) {
+            if (s.unknown[i] == mesh::no_index) continue;
+            double* out = &rhs[3 * s.unknown[i]];
+            for (int x = 0; x < 3; ++x) {
+                out[x] +=
+                    rotation[0][x] * g[0][i] + rotation[1][x] * g[1][i] + rotation[2][x] * g[2][i];
+            }
         }
     }
     return energy;

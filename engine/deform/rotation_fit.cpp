@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
-#include <glm/matrix.hpp>
 
 namespace dfm::deform {
 
@@ -13,31 +12,49 @@ double alignment(const glm::dmat3& r, const glm::dmat3& a) {
     return glm::dot(r[0], a[0]) + glm::dot(r[1], a[1]) + glm::dot(r[2], a[2]);
 }
 
-// Whether the symmetric k is positive definite (its leading minors).
-bool positive_definite(const glm::dmat3& k, double tiny) {
-    return k[0][0] > tiny && k[0][0] * k[1][1] - k[0][1] * k[1][0] > tiny * tiny &&
-           glm::determinant(k) > tiny * tiny * tiny;
+// Solves k ω = τ for the symmetric k (its upper triangle k00 k01 k02 k11 k12
+// k22) by its adjugate, when k is positive definite (its leading minors
+// above `tiny`); returns false otherwise.
+bool solve_positive_definite(double k00, double k01, double k02, double k11, double k12, double k22,
+                             const glm::dvec3& tau, double tiny, glm::dvec3& omega) {
+    const double c22 = k00 * k11 - k01 * k01;
+    if (!(k00 > tiny) || !(c22 > tiny * tiny)) return false;
+    const double c00 = k11 * k22 - k12 * k12;
+    const double c01 = k02 * k12 - k01 * k22;
+    const double c02 = k01 * k12 - k02 * k11;
+    const double det = k00 * c00 + k01 * c01 + k02 * c02;
+    if (!(det > tiny * tiny * tiny)) return false;
+    const double c11 = k00 * k22 - k02 * k02;
+    const double c12 = k01 * k02 - k00 * k12;
+    omega =
+        glm::dvec3(c00 * tau.x + c01 * tau.y + c02 * tau.z, c01 * tau.x + c11 * tau.y + c12 * tau.z,
+                   c02 * tau.x + c12 * tau.y + c22 * tau.z) /
+        det;
+    return true;
 }
 
 }  // namespace
 
-void fit_rotation(const glm::dmat3& a, glm::dquat& q, int max_steps) {
+RotationFit fit_rotation(const glm::dmat3& a, glm::dquat& q, int max_steps) {
     constexpr double smallest_turn = 1e-9;  // radians
-    const glm::dquat start = q;
-    glm::dmat3 r = glm::mat3_cast(start);
-    const double start_alignment = alignment(r, a);
+    glm::dmat3 r = glm::mat3_cast(q);
     const double scale = std::sqrt(alignment(a, a));
-    if (!(scale > 0.0) || !std::isfinite(scale)) return;
+    if (!(scale > 0.0) || !std::isfinite(scale)) return {r, alignment(r, a)};
+    const glm::dquat start = q;
+    const glm::dmat3 start_rotation = r;
+    const double start_alignment = alignment(r, a);
+    double t = start_alignment;
     for (int step = 0; step < max_steps; ++step) {
         // f(ω) = tr(Aᵀ exp([ω]) R) ≈ t + ω·τ + ½ ωᵀ (sym(A Rᵀ) − t I) ω.
         const glm::dvec3 torque =
             glm::cross(r[0], a[0]) + glm::cross(r[1], a[1]) + glm::cross(r[2], a[2]);
-        const double t = alignment(r, a);
-        const glm::dmat3 m = a * glm::transpose(r);
-        const glm::dmat3 k = t * glm::dmat3(1.0) - 0.5 * (m + glm::transpose(m));
-        const glm::dvec3 omega = positive_definite(k, 1e-9 * scale)
-                                     ? glm::inverse(k) * torque
-                                     : torque / (std::abs(t) + 1e-12 * scale);
+        const glm::dmat3 m = a * glm::transpose(r);  // sym(m) = sym(A Rᵀ)
+        glm::dvec3 omega;
+        if (!solve_positive_definite(
+                t - m[0][0], -0.5 * (m[0][1] + m[1][0]), -0.5 * (m[0][2] + m[2][0]), t - m[1][1],
+                -0.5 * (m[1][2] + m[2][1]), t - m[2][2], torque, 1e-9 * scale, omega)) {
+            omega = torque / (std::abs(t) + 1e-12 * scale);
+        }
         const double turn = glm::length(omega);
         if (!(turn > smallest_turn) || !std::isfinite(turn)) break;
         // The normalised (1, ω/2) turns about ω by 2 atan(|ω|/2): Newton's
@@ -45,8 +62,13 @@ void fit_rotation(const glm::dmat3& a, glm::dquat& q, int max_steps) {
         // from the fit.
         q = glm::normalize(glm::dquat(1.0, 0.5 * omega.x, 0.5 * omega.y, 0.5 * omega.z) * q);
         r = glm::mat3_cast(q);
+        t = alignment(r, a);
     }
-    if (!(alignment(r, a) >= start_alignment)) q = start;
+    if (!(t >= start_alignment)) {
+        q = start;
+        return {start_rotation, start_alignment};
+    }
+    return {r, t};
 }
 
 }  // namespace dfm::deform

@@ -15,6 +15,10 @@ namespace dfm::deform {
 // concave; never a reflection, no SVD, no trigonometry. `q` is the warm start
 // on entry and the fit on exit, after at most `steps` steps; the fit is
 // never worse than the start.
-void fit_rotation(const glm::dmat3& covariance, glm::dquat& q, int steps);
+struct RotationFit {
+    glm::dmat3 rotation;  // of q
+    double alignment;     // tr(Rᵀ A), which the fit maximises
+};
+RotationFit fit_rotation(const glm::dmat3& covariance, glm::dquat& q, int steps);
 
 }  // namespace dfm::deform
