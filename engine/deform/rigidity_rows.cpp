@@ -7,9 +7,22 @@
 
 #include "deform/rotation_fit.hpp"
 
+// The pass over the rows is also compiled for AVX2 and picked at run time
+// where the processor has it, as the solver's dense kernels are: the same
+// multiplications and additions in the same order (no fused multiply–add),
+// so the same bits, in fewer instructions.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define DFM_HAS_AVX2_FIT 1
+#else
+#define DFM_HAS_AVX2_FIT 0
+#endif
+
 namespace dfm::deform {
 
 namespace {
+
+constexpr std::size_t slots = RigidityStencil::slots;
+constexpr std::size_t pairs = RigidityStencil::pairs;
 
 // The vertex of triangle `t` that is not on the edge it shares with `other`.
 std::uint32_t opposite_vertex(const mesh::Triangle& t, const mesh::Triangle& other) {
@@ -71,10 +84,10 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
         rigid_offsets.push_back(static_cast<std::uint32_t>(rest_vectors.size()));
     }
 
-    stencils_.assign(dual_rows, Stencil{});
+    stencils_.assign(dual_rows, RigidityStencil{});
     fixed_.clear();
     for (std::size_t r = 0; r < dual_rows; ++r) {
-        Stencil& s = stencils_[r];
+        RigidityStencil& s = stencils_[r];
         s.rest_dual = dual::dual_coordinate(model.dual, rest, rows.faces[r]);
         s.rest_dual2 = glm::dot(s.rest_dual, s.rest_dual);
         // The coefficients b_ki of every row of this dual row, by slot.
@@ -128,26 +141,28 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
     fitted_ = kept_;
 }
 
-double RotationFrames::fit_and_assemble(std::span<const glm::dvec3> positions,
-                                        std::span<const double> height_scale, int steps,
-                                        std::span<double> rhs) {
-    std::fill(rhs.begin(), rhs.end(), 0.0);
-    for (const FixedCoupling& c : fixed_) {
-        const glm::dvec3& p = positions[c.vertex];
-        double* out = &rhs[3 * c.unknown];
-        out[0] += c.coefficient * p.x;
-        out[1] += c.coefficient * p.y;
-        out[2] += c.coefficient * p.z;
-    }
+namespace {
+
+struct FitPass {
+    std::span<const RigidityStencil> stencils;
+    std::span<const glm::dquat> kept;
+    std::span<glm::dquat> fitted;
+    std::span<const glm::dvec3> positions;
+    std::span<const double> height_scale;
+    int steps;
+    std::span<double> rhs;
+};
+
+[[gnu::always_inline]] inline double fit_rows_body(const FitPass& pass) {
     double energy = 0.0;
-    for (std::size_t r = 0; r < stencils_.size(); ++r) {
-        const Stencil& s = stencils_[r];
-        const double scale = height_scale.empty() ? 1.0 : height_scale[r];
+    for (std::size_t r = 0; r < pass.stencils.size(); ++r) {
+        const RigidityStencil& s = pass.stencils[r];
+        const double scale = pass.height_scale.empty() ? 1.0 : pass.height_scale[r];
         const glm::dvec3 rest_dual = scale * s.rest_dual;
         std::array<std::array<double, slots>, 3> p;  // by coordinate
         std::array<std::array<double, slots>, 3> g;
         for (std::size_t i = 0; i < slots; ++i) {
-            const glm::dvec3& v = positions[s.vertex[i]];
+            const glm::dvec3& v = pass.positions[s.vertex[i]];
             p[0][i] = v.x;
             p[1][i] = v.y;
             p[2][i] = v.z;
@@ -172,9 +187,9 @@ double RotationFrames::fit_and_assemble(std::span<const glm::dvec3> positions,
                 covariance[column][row] = sum;
             }
         }
-        glm::dquat q = kept_[r];
-        const RotationFit fit = fit_rotation(covariance, q, steps);
-        fitted_[r] = q;
+        glm::dquat q = pass.kept[r];
+        const RotationFit fit = fit_rotation(covariance, q, pass.steps);
+        pass.fitted[r] = q;
         double rows2 = glm::dot(dual, dual);
         for (std::size_t k = 0; k < pairs; ++k) {
             const std::uint8_t c = s.pair[k][0];
@@ -186,7 +201,7 @@ double RotationFrames::fit_and_assemble(std::span<const glm::dvec3> positions,
         const glm::dmat3& rotation = fit.rotation;
         for (std::size_t i = 0; i < slots; ++i) {
             if (s.unknown[i] == mesh::no_index) continue;
-            double* out = &rhs[3 * s.unknown[i]];
+            double* out = &pass.rhs[3 * s.unknown[i]];
             for (int x = 0; x < 3; ++x) {
                 out[x] +=
                     rotation[0][x] * g[0][i] + rotation[1][x] * g[1][i] + rotation[2][x] * g[2][i];
@@ -194,6 +209,44 @@ double RotationFrames::fit_and_assemble(std::span<const glm::dvec3> positions,
         }
     }
     return energy;
+}
+
+double fit_rows(const FitPass& pass) {
+    return fit_rows_body(pass);
+}
+
+#if DFM_HAS_AVX2_FIT
+bool avx2_available() {
+    static const bool available = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") != 0;
+    }();
+    return available;
+}
+
+__attribute__((target("avx2"))) double fit_rows_avx2(const FitPass& pass) {
+    return fit_rows_body(pass);
+}
+#endif
+
+}  // namespace
+
+double RotationFrames::fit_and_assemble(std::span<const glm::dvec3> positions,
+                                        std::span<const double> height_scale, int steps,
+                                        std::span<double> rhs) {
+    std::fill(rhs.begin(), rhs.end(), 0.0);
+    for (const FixedCoupling& c : fixed_) {
+        const glm::dvec3& p = positions[c.vertex];
+        double* out = &rhs[3 * c.unknown];
+        out[0] += c.coefficient * p.x;
+        out[1] += c.coefficient * p.y;
+        out[2] += c.coefficient * p.z;
+    }
+#if DFM_HAS_AVX2_FIT
+    if (avx2_available())
+        return fit_rows_avx2({stencils_, kept_, fitted_, positions, height_scale, steps, rhs});
+#endif
+    return fit_rows({stencils_, kept_, fitted_, positions, height_scale, steps, rhs});
 }
 
 }  // namespace dfm::deform

@@ -22,6 +22,28 @@
 // 2-ring, and the normal matrix keeps its sparsity pattern.
 namespace dfm::deform {
 
+// One dual row and its rigidity rows, over its own vertices. Every row
+// is linear in the slots' positions, A_k p = Σ_i b_ki p_i, with a target
+// R_f g_k: so the covariance is Σ_i p_i G_iᵀ and the rows' share of
+// Aᵀ t at slot i is R_f G_i, for G_i = Σ_k b_ki g_k; and their energy
+// Σ_k |A_k p − R_f g_k|² = Σ_k |A_k p|² − 2 tr(R_fᵀ C) + Σ_k |g_k|², its
+// middle term the fit's own alignment. Unused slots and pairs have zero
+// coefficients. G_i is kept by coordinate so that its loops vectorise.
+struct RigidityStencil {
+    static constexpr std::size_t slots = 6;  // a dual row's vertices: f's and the three opposite
+    static constexpr std::size_t pairs = 6;  // rigidity rows per dual row: 3 dual, 3 face edges
+
+    std::array<std::uint32_t, slots> vertex{};
+    std::array<std::uint32_t, slots> unknown{};             // no_index: fixed, or unused
+    std::array<double, slots> dual{};                       // the dual row's coefficients
+    std::array<std::array<double, slots>, 3> pulled{};      // G_i of the rigidity rows alone
+    std::array<std::array<std::uint8_t, 2>, pairs> pair{};  // slots of v_c, v_d
+    std::array<double, pairs> pair_weight2{};               // (w s)²: A_k p = w s (v_c − v_d)
+    glm::dvec3 rest_dual{0.0};                              // l_f at rest
+    double rest_dual2 = 0.0;                                // |l_f|² at rest
+    double pair_target2 = 0.0;                              // Σ_k |g_k|² over the rigidity rows
+};
+
 class RotationFrames {
 public:
     // Appends the rigidity rows of each dual row of `rows` (those that touch
@@ -48,27 +70,6 @@ public:
     std::size_t dual_rows() const { return stencils_.size(); }
 
 private:
-    static constexpr std::size_t slots = 6;  // a dual row's vertices: f's and the three opposite
-    static constexpr std::size_t pairs = 6;  // rigidity rows per dual row: 3 dual, 3 face edges
-
-    // One dual row and its rigidity rows, over its own vertices. Every row
-    // is linear in the slots' positions, A_k p = Σ_i b_ki p_i, with a target
-    // R_f g_k: so the covariance is Σ_i p_i G_iᵀ and the rows' share of
-    // Aᵀ t at slot i is R_f G_i, for G_i = Σ_k b_ki g_k; and their energy
-    // Σ_k |A_k p − R_f g_k|² = Σ_k |A_k p|² − 2 tr(R_fᵀ C) + Σ_k |g_k|², its
-    // middle term the fit's own alignment. Unused slots and pairs have zero
-    // coefficients. G_i is kept by coordinate so that its loops vectorise.
-    struct Stencil {
-        std::array<std::uint32_t, slots> vertex{};
-        std::array<std::uint32_t, slots> unknown{};             // no_index: fixed, or unused
-        std::array<double, slots> dual{};                       // the dual row's coefficients
-        std::array<std::array<double, slots>, 3> pulled{};      // G_i of the rigidity rows alone
-        std::array<std::array<std::uint8_t, 2>, pairs> pair{};  // slots of v_c, v_d
-        std::array<double, pairs> pair_weight2{};  // (w s)²: A_k p = w s (v_c − v_d)
-        glm::dvec3 rest_dual{0.0};                 // l_f at rest
-        double rest_dual2 = 0.0;                   // |l_f|² at rest
-        double pair_target2 = 0.0;                 // Σ_k |g_k|² over the rigidity rows
-    };
     // −(Aᵀ A)_uv between an unknown u and a fixed vertex v: the fixed
     // vertices' share of the right-hand side, −Σ (Aᵀ A)_uv p_v.
     struct FixedCoupling {
@@ -77,7 +78,7 @@ private:
         double coefficient;
     };
 
-    std::vector<Stencil> stencils_;  // per dual row
+    std::vector<RigidityStencil> stencils_;  // per dual row
     std::vector<FixedCoupling> fixed_;
     std::vector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
     std::vector<glm::dquat> fitted_;  // per dual row: the last fit
