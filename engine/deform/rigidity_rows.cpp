@@ -1,6 +1,7 @@
 #include "deform/rigidity_rows.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 #include <glm/geometric.hpp>
 #include <glm/gtx/quaternion.hpp>
@@ -153,59 +154,99 @@ struct FitPass {
     std::span<double> rhs;
 };
 
+// Two doubles, the width every x86-64 processor has: the slots go three
+// pairs at a time.
+using Lanes = double __attribute__((vector_size(16)));
+constexpr std::size_t lanes = slots / 2;
+
+// The slots of a per-slot array by pairs.
+struct SlotLanes {
+    std::array<Lanes, lanes> v;
+};
+
+[[gnu::always_inline]] inline SlotLanes load_slots(const std::array<double, slots>& a) {
+    SlotLanes out;
+    std::memcpy(out.v.data(), a.data(), sizeof a);
+    return out;
+}
+
+[[gnu::always_inline]] inline double lane_sum(const Lanes& v) {
+    return v[0] + v[1];
+}
+
 [[gnu::always_inline]] inline double fit_rows_body(const FitPass& pass) {
     double energy = 0.0;
     for (std::size_t r = 0; r < pass.stencils.size(); ++r) {
         const RigidityStencil& s = pass.stencils[r];
         const double scale = pass.height_scale.empty() ? 1.0 : pass.height_scale[r];
-        const glm::dvec3 rest_dual = scale * s.rest_dual;
-        std::array<std::array<double, slots>, 3> p;  // by coordinate
-        std::array<std::array<double, slots>, 3> g;
+        // By coordinate, as arrays: glm's vec3[i] is a switch.
+        const std::array<double, 3> rest_dual{scale * s.rest_dual.x, scale * s.rest_dual.y,
+                                              scale * s.rest_dual.z};
+        std::array<std::array<double, slots>, 3> p;
         for (std::size_t i = 0; i < slots; ++i) {
             const glm::dvec3& v = pass.positions[s.vertex[i]];
             p[0][i] = v.x;
             p[1][i] = v.y;
             p[2][i] = v.z;
         }
-        glm::dvec3 dual(0.0);
-        for (int x = 0; x < 3; ++x) {
-            for (std::size_t i = 0; i < slots; ++i) {
-                dual[x] += s.dual[i] * p[x][i];
-                g[x][i] = s.pulled[x][i] + s.dual[i] * rest_dual[x];
+        const SlotLanes a = load_slots(s.dual);
+        std::array<SlotLanes, 3> g;
+        std::array<SlotLanes, 3> e;
+        std::array<double, 3> dual;
+        for (std::size_t x = 0; x < 3; ++x) {
+            const SlotLanes px = load_slots(p[x]);
+            const SlotLanes pulled = load_slots(s.pulled[x]);
+            Lanes product = a.v[0] * px.v[0];
+            for (std::size_t l = 1; l < lanes; ++l) product += a.v[l] * px.v[l];
+            dual[x] = lane_sum(product);
+            for (std::size_t l = 0; l < lanes; ++l) {
+                g[x].v[l] = pulled.v[l] + a.v[l] * rest_dual[x];
+                // Σ_i G_i = 0 (every row's coefficients sum to zero):
+                // positions relative to the first slot give the same
+                // covariance, with less cancellation.
+                e[x].v[l] = px.v[l] - p[x][0];
             }
         }
-        // Σ_i G_i = 0 (every row's coefficients sum to zero): positions
-        // relative to the first slot give the same covariance, with less
-        // cancellation.
-        glm::dmat3 covariance(0.0);
+        glm::dmat3 covariance;
         for (int row = 0; row < 3; ++row) {
             for (int column = 0; column < 3; ++column) {
-                double sum = 0.0;
-                for (std::size_t i = 1; i < slots; ++i) {
-                    sum += (p[row][i] - p[row][0]) * g[column][i];
-                }
-                covariance[column][row] = sum;
+                Lanes sum = e[row].v[0] * g[column].v[0];
+                for (std::size_t l = 1; l < lanes; ++l) sum += e[row].v[l] * g[column].v[l];
+                covariance[column][row] = lane_sum(sum);
             }
         }
-        glm::dquat q = pass.kept[r];
-        const RotationFit fit = fit_rotation(covariance, q, pass.steps);
-        pass.fitted[r] = q;
-        double rows2 = glm::dot(dual, dual);
+        // |A_k p|² does not depend on the fit: taken before it, while the
+        // positions are at hand.
+        double rows2 = dual[0] * dual[0] + dual[1] * dual[1] + dual[2] * dual[2];
         for (std::size_t k = 0; k < pairs; ++k) {
             const std::uint8_t c = s.pair[k][0];
             const std::uint8_t d = s.pair[k][1];
-            const glm::dvec3 e(p[0][c] - p[0][d], p[1][c] - p[1][d], p[2][c] - p[2][d]);
-            rows2 += s.pair_weight2[k] * glm::dot(e, e);
+            const glm::dvec3 edge(p[0][c] - p[0][d], p[1][c] - p[1][d], p[2][c] - p[2][d]);
+            rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
         }
+        glm::dquat q = pass.kept[r];
+        // The one step of every iterate after a solve's first, as
+        // straight-line code.
+        const RotationFit fit = pass.steps == 1 ? fit_rotation(covariance, q, 1)
+                                                : fit_rotation(covariance, q, pass.steps);
+        pass.fitted[r] = q;
         energy += rows2 - 2.0 * fit.alignment + scale * scale * s.rest_dual2 + s.pair_target2;
         const glm::dmat3& rotation = fit.rotation;
+        std::array<std::array<double, slots>, 3> pull;  // R_f G_i by coordinate
+        for (int x = 0; x < 3; ++x) {
+            SlotLanes out;
+            for (std::size_t l = 0; l < lanes; ++l) {
+                out.v[l] = rotation[0][x] * g[0].v[l] + rotation[1][x] * g[1].v[l] +
+                           rotation[2][x] * g[2].v[l];
+            }
+            std::memcpy(pull[x].data(), out.v.data(), sizeof pull[x]);
+        }
         for (std::size_t i = 0; i < slots; ++i) {
             if (s.unknown[i] == mesh::no_index) continue;
             double* out = &pass.rhs[3 * s.unknown[i]];
-            for (int x = 0; x < 3; ++x) {
-                out[x] +=
-                    rotation[0][x] * g[0][i] + rotation[1][x] * g[1][i] + rotation[2][x] * g[2][i];
-            }
+            out[0] += pull[0][i];
+            out[1] += pull[1][i];
+            out[2] += pull[2][i];
         }
     }
     return energy;

@@ -64,7 +64,6 @@ inline bool solve_positive_definite(double k00, double k01, double k02, double k
     const double scale = std::sqrt(alignment(a, a));
     if (!(scale > 0.0) || !std::isfinite(scale)) return {r, alignment(r, a)};
     const glm::dquat start = q;
-    const glm::dmat3 start_rotation = r;
     const double start_alignment = alignment(r, a);
     double t = start_alignment;
     for (int step = 0; step < max_steps; ++step) {
@@ -89,7 +88,7 @@ inline bool solve_positive_definite(double k00, double k01, double k02, double k
     }
     if (!(t >= start_alignment)) {
         q = start;
-        return {start_rotation, start_alignment};
+        return {glm::mat3_cast(start), start_alignment};
     }
     return {r, t};
 }
