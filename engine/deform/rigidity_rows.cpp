@@ -138,6 +138,20 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
             }
         }
     }
+    // The same pair comes from every dual row that holds both: one term each.
+    std::sort(fixed_.begin(), fixed_.end(), [](const FixedCoupling& x, const FixedCoupling& y) {
+        return x.unknown != y.unknown ? x.unknown < y.unknown : x.vertex < y.vertex;
+    });
+    std::size_t merged = 0;
+    for (std::size_t k = 0; k < fixed_.size(); ++k) {
+        if (merged > 0 && fixed_[merged - 1].unknown == fixed_[k].unknown &&
+            fixed_[merged - 1].vertex == fixed_[k].vertex) {
+            fixed_[merged - 1].coefficient += fixed_[k].coefficient;
+        } else {
+            fixed_[merged++] = fixed_[k];
+        }
+    }
+    fixed_.resize(merged);
     kept_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
     fitted_ = kept_;
 }
@@ -155,19 +169,15 @@ struct FitPass {
 };
 
 // Two doubles, the width every x86-64 processor has: the slots go three
-// pairs at a time.
+// pairs at a time, in registers.
 using Lanes = double __attribute__((vector_size(16)));
 constexpr std::size_t lanes = slots / 2;
+using SlotLanes = std::array<Lanes, lanes>;
 
-// The slots of a per-slot array by pairs.
-struct SlotLanes {
-    std::array<Lanes, lanes> v;
-};
-
-[[gnu::always_inline]] inline SlotLanes load_slots(const std::array<double, slots>& a) {
-    SlotLanes out;
-    std::memcpy(out.v.data(), a.data(), sizeof a);
-    return out;
+[[gnu::always_inline]] inline Lanes lanes_at(const double* a) {
+    Lanes v;
+    std::memcpy(&v, a, sizeof v);
+    return v;
 }
 
 [[gnu::always_inline]] inline double lane_sum(const Lanes& v) {
@@ -182,47 +192,44 @@ struct SlotLanes {
         // By coordinate, as arrays: glm's vec3[i] is a switch.
         const std::array<double, 3> rest_dual{scale * s.rest_dual.x, scale * s.rest_dual.y,
                                               scale * s.rest_dual.z};
-        std::array<std::array<double, slots>, 3> p;
-        for (std::size_t i = 0; i < slots; ++i) {
-            const glm::dvec3& v = pass.positions[s.vertex[i]];
-            p[0][i] = v.x;
-            p[1][i] = v.y;
-            p[2][i] = v.z;
+        std::array<SlotLanes, 3> p;  // by coordinate
+        for (std::size_t l = 0; l < lanes; ++l) {
+            const glm::dvec3& u = pass.positions[s.vertex[2 * l]];
+            const glm::dvec3& w = pass.positions[s.vertex[2 * l + 1]];
+            p[0][l] = Lanes{u.x, w.x};
+            p[1][l] = Lanes{u.y, w.y};
+            p[2][l] = Lanes{u.z, w.z};
         }
-        const SlotLanes a = load_slots(s.dual);
+        // |A_k p|² does not depend on the fit: taken before it.
+        double rows2 = 0.0;
         std::array<SlotLanes, 3> g;
         std::array<SlotLanes, 3> e;
-        std::array<double, 3> dual;
         for (std::size_t x = 0; x < 3; ++x) {
-            const SlotLanes px = load_slots(p[x]);
-            const SlotLanes pulled = load_slots(s.pulled[x]);
-            Lanes product = a.v[0] * px.v[0];
-            for (std::size_t l = 1; l < lanes; ++l) product += a.v[l] * px.v[l];
-            dual[x] = lane_sum(product);
+            Lanes product = lanes_at(&s.dual[0]) * p[x][0];
+            for (std::size_t l = 1; l < lanes; ++l) product += lanes_at(&s.dual[2 * l]) * p[x][l];
+            const double dual = lane_sum(product);
+            rows2 += dual * dual;
+            const double origin = p[x][0][0];
             for (std::size_t l = 0; l < lanes; ++l) {
-                g[x].v[l] = pulled.v[l] + a.v[l] * rest_dual[x];
+                g[x][l] = lanes_at(&s.pulled[x][2 * l]) + lanes_at(&s.dual[2 * l]) * rest_dual[x];
                 // Σ_i G_i = 0 (every row's coefficients sum to zero):
                 // positions relative to the first slot give the same
                 // covariance, with less cancellation.
-                e[x].v[l] = px.v[l] - p[x][0];
+                e[x][l] = p[x][l] - origin;
             }
+        }
+        for (std::size_t k = 0; k < pairs; ++k) {
+            const glm::dvec3 edge =
+                pass.positions[s.vertex[s.pair[k][0]]] - pass.positions[s.vertex[s.pair[k][1]]];
+            rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
         }
         glm::dmat3 covariance;
         for (int row = 0; row < 3; ++row) {
             for (int column = 0; column < 3; ++column) {
-                Lanes sum = e[row].v[0] * g[column].v[0];
-                for (std::size_t l = 1; l < lanes; ++l) sum += e[row].v[l] * g[column].v[l];
+                Lanes sum = e[row][0] * g[column][0];
+                for (std::size_t l = 1; l < lanes; ++l) sum += e[row][l] * g[column][l];
                 covariance[column][row] = lane_sum(sum);
             }
-        }
-        // |A_k p|² does not depend on the fit: taken before it, while the
-        // positions are at hand.
-        double rows2 = dual[0] * dual[0] + dual[1] * dual[1] + dual[2] * dual[2];
-        for (std::size_t k = 0; k < pairs; ++k) {
-            const std::uint8_t c = s.pair[k][0];
-            const std::uint8_t d = s.pair[k][1];
-            const glm::dvec3 edge(p[0][c] - p[0][d], p[1][c] - p[1][d], p[2][c] - p[2][d]);
-            rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
         }
         glm::dquat q = pass.kept[r];
         // The one step of every iterate after a solve's first, as
@@ -232,21 +239,19 @@ struct SlotLanes {
         pass.fitted[r] = q;
         energy += rows2 - 2.0 * fit.alignment + scale * scale * s.rest_dual2 + s.pair_target2;
         const glm::dmat3& rotation = fit.rotation;
-        std::array<std::array<double, slots>, 3> pull;  // R_f G_i by coordinate
+        std::array<SlotLanes, 3> pull;  // R_f G_i by coordinate
         for (int x = 0; x < 3; ++x) {
-            SlotLanes out;
             for (std::size_t l = 0; l < lanes; ++l) {
-                out.v[l] = rotation[0][x] * g[0].v[l] + rotation[1][x] * g[1].v[l] +
-                           rotation[2][x] * g[2].v[l];
+                pull[x][l] =
+                    rotation[0][x] * g[0][l] + rotation[1][x] * g[1][l] + rotation[2][x] * g[2][l];
             }
-            std::memcpy(pull[x].data(), out.v.data(), sizeof pull[x]);
         }
         for (std::size_t i = 0; i < slots; ++i) {
             if (s.unknown[i] == mesh::no_index) continue;
             double* out = &pass.rhs[3 * s.unknown[i]];
-            out[0] += pull[0][i];
-            out[1] += pull[1][i];
-            out[2] += pull[2][i];
+            out[0] += pull[0][i / 2][i % 2];
+            out[1] += pull[1][i / 2][i % 2];
+            out[2] += pull[2][i / 2][i % 2];
         }
     }
     return energy;
