@@ -106,6 +106,7 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
             s.vertex[i] = s.vertex[0];
             s.unknown[i] = mesh::no_index;
         }
+        s.pair.fill({s.vertex[0], s.vertex[0]});
         // A rigidity row joins two vertices of f's dual 1-ring, which are
         // all in the dual row.
         auto slot_of = [&](std::uint32_t v) {
@@ -118,15 +119,17 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
             const std::size_t row = dual_rows + first + k;
             const RowEntry& c = rows.entries[rows.entry_offsets[row]];
             const RowEntry& d = rows.entries[rows.entry_offsets[row] + 1];
-            s.pair[k] = {slot_of(c.vertex), slot_of(d.vertex)};
+            const std::uint8_t sc = slot_of(c.vertex);
+            const std::uint8_t sd = slot_of(d.vertex);
+            s.pair[k] = {c.vertex, d.vertex};
             s.pair_weight2[k] = c.coefficient * c.coefficient;
             s.pair_target2 += glm::dot(rest_vectors[first + k], rest_vectors[first + k]);
             for (int x = 0; x < 3; ++x) {
-                s.pulled[x][s.pair[k][0]] += c.coefficient * rest_vectors[first + k][x];
-                s.pulled[x][s.pair[k][1]] += d.coefficient * rest_vectors[first + k][x];
+                s.pulled[x][sc] += c.coefficient * rest_vectors[first + k][x];
+                s.pulled[x][sd] += d.coefficient * rest_vectors[first + k][x];
             }
-            b[k + 1][s.pair[k][0]] += c.coefficient;
-            b[k + 1][s.pair[k][1]] += d.coefficient;
+            b[k + 1][sc] += c.coefficient;
+            b[k + 1][sd] += d.coefficient;
         }
         for (std::size_t i = 0; i < used; ++i) {
             if (s.unknown[i] == mesh::no_index) continue;
@@ -219,8 +222,7 @@ using SlotLanes = std::array<Lanes, lanes>;
             }
         }
         for (std::size_t k = 0; k < pairs; ++k) {
-            const glm::dvec3 edge =
-                pass.positions[s.vertex[s.pair[k][0]]] - pass.positions[s.vertex[s.pair[k][1]]];
+            const glm::dvec3 edge = pass.positions[s.pair[k][0]] - pass.positions[s.pair[k][1]];
             rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
         }
         glm::dmat3 covariance;
