@@ -42,9 +42,9 @@ double DeformSession::fit_and_prepare(std::span<const double> x, int rotation_st
             height_scale_[r] = rest > 0.0 ? std::sqrt(face_area(mesh, positions_, f) / rest) : 1.0;
         }
     }
-    return frames_.fit_and_assemble(positions_, height_scale_, rotation_steps, rhs_) +
-           add_handle_terms(positions_, unknowns_, soft_handles_, targets_, settings_.handle_weight,
-                            epsilon_, rhs_);
+    const double handles =
+        write_handle_terms(x, soft_handles_, targets_, settings_.handle_weight, epsilon_, rhs_);
+    return handles + frames_.fit_and_add(positions_, height_scale_, rotation_steps, rhs_);
 }
 
 // With nothing outside the handles to pin it, the ROI floats: its rotation

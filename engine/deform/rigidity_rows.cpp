@@ -279,10 +279,9 @@ __attribute__((target("avx2"))) double fit_rows_avx2(const FitPass& pass) {
 
 }  // namespace
 
-double RotationFrames::fit_and_assemble(std::span<const glm::dvec3> positions,
-                                        std::span<const double> height_scale, int steps,
-                                        std::span<double> rhs) {
-    std::fill(rhs.begin(), rhs.end(), 0.0);
+double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
+                                   std::span<const double> height_scale, int steps,
+                                   std::span<double> rhs) {
     for (const FixedCoupling& c : fixed_) {
         const glm::dvec3& p = positions[c.vertex];
         double* out = &rhs[3 * c.unknown];

@@ -55,13 +55,13 @@ public:
     // The local step, and the global step's right-hand side in the same
     // pass: fits each dual row's rotation to `positions` (the whole mesh),
     // starting from the last kept fit (keep_fit) with at most `steps` Newton
-    // steps, then writes rhs = Aᵀ (t − A_fixed p_fixed) for the rows' targets
-    // t (3 interleaved columns) and returns Σ_r |A_r p − t_r|², the rows'
-    // share of the energy (deform_energy.hpp). A fit never raises the energy
-    // of its rows over the kept rotations. `height_scale`, when not empty,
-    // scales each dual row's target (DeformSettings::scale_heights).
-    double fit_and_assemble(std::span<const glm::dvec3> positions,
-                            std::span<const double> height_scale, int steps, std::span<double> rhs);
+    // steps, then adds Aᵀ (t − A_fixed p_fixed) to rhs for the rows' targets
+    // t (3 interleaved columns; write_handle_terms starts it) and returns Σ_r |A_r p − t_r|², the
+    // rows' share of the energy (deform_energy.hpp). A fit never raises the energy of its rows over
+    // the kept rotations. `height_scale`, when not empty, scales each dual row's target
+    // (DeformSettings::scale_heights).
+    double fit_and_add(std::span<const glm::dvec3> positions, std::span<const double> height_scale,
+                       int steps, std::span<double> rhs);
 
     // Makes the last fit the next one's starting point. A refused trial step
     // is not kept: the next fit starts again from the rotations before it.
