@@ -42,9 +42,9 @@ double DeformSession::fit_and_prepare(std::span<const double> x, int rotation_st
             height_scale_[r] = rest > 0.0 ? std::sqrt(face_area(mesh, positions_, f) / rest) : 1.0;
         }
     }
-    return frames_.fit_and_assemble(rows_, positions_, height_scale_, rotation_steps, rhs_) +
-           add_handle_terms(positions_, unknowns_, soft_handles_, targets_, settings_.handle_weight,
-                            epsilon_, rhs_);
+    const double handles =
+        write_handle_terms(x, soft_handles_, targets_, settings_.handle_weight, epsilon_, rhs_);
+    return handles + frames_.fit_and_add(positions_, height_scale_, rotation_steps, rhs_);
 }
 
 // With nothing outside the handles to pin it, the ROI floats: its rotation
@@ -70,8 +70,7 @@ void DeformSession::align_to_handles() {
         covariance += glm::outerProduct(targets_[h] - to, positions_[handle_vertices_[h]] - from);
     }
     glm::dquat q(1.0, 0.0, 0.0, 0.0);
-    fit_rotation(covariance, q, 64);
-    const glm::dmat3 rotation = glm::mat3_cast(q);
+    const glm::dmat3 rotation = fit_rotation(covariance, q, 64).rotation;
     for (std::size_t i = 0; i < unknowns_.count(); ++i) {
         const glm::dvec3 p(current_[3 * i], current_[3 * i + 1], current_[3 * i + 2]);
         const glm::dvec3 moved = to + rotation * (p - from);
@@ -94,6 +93,7 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
     // rotations move little, and one Newton step from the last fit is exact
     // to second order (more steps did not cut the iterations).
     double energy = fit_and_prepare(current_, first_fit_steps);
+    frames_.keep_fit();
     report.energy = energy;
     std::copy(current_.begin(), current_.end(), x_.begin());
     for (int it = 0; it < settings_.max_iterations; ++it) {
@@ -136,17 +136,17 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
             break;
         }
         anderson_.step(current_, x_, next_);
-        frames_.remember();
         const double trial = fit_and_prepare(next_, 1);
         if (trial <= energy) {
             energy = trial;
+            frames_.keep_fit();
             std::copy(next_.begin(), next_.end(), current_.begin());
         } else {
             // The plain step: the global step did not raise the energy with
             // the old rotations, and refitting them from there lowers it.
             ++report.rejected_steps;
-            frames_.recall();
             energy = fit_and_prepare(x_, 1);
+            frames_.keep_fit();
             std::copy(x_.begin(), x_.end(), current_.begin());
         }
         std::copy(current_.begin(), current_.end(), x_.begin());

@@ -1,15 +1,29 @@
 #include "deform/rigidity_rows.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 #include <glm/geometric.hpp>
 #include <glm/gtx/quaternion.hpp>
 
 #include "deform/rotation_fit.hpp"
 
+// The pass over the rows is also compiled for AVX2 and picked at run time
+// where the processor has it, as the solver's dense kernels are: the same
+// multiplications and additions in the same order (no fused multiply–add),
+// so the same bits, in fewer instructions.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define DFM_HAS_AVX2_FIT 1
+#else
+#define DFM_HAS_AVX2_FIT 0
+#endif
+
 namespace dfm::deform {
 
 namespace {
+
+constexpr std::size_t slots = RigidityStencil::slots;
+constexpr std::size_t pairs = RigidityStencil::pairs;
 
 // The vertex of triangle `t` that is not on the edge it shares with `other`.
 std::uint32_t opposite_vertex(const mesh::Triangle& t, const mesh::Triangle& other) {
@@ -31,14 +45,8 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
                            SystemRows& rows) {
     const mesh::Mesh& mesh = model.mesh;
     const std::size_t dual_rows = rows.size();
-    weight_ = weight;
-    first_row_ = dual_rows;
-    faces_.assign(rows.faces.begin(), rows.faces.end());
-    rest_dual_.resize(dual_rows);
-    rigid_offsets_.assign(1, 0);
-    rest_vectors_.clear();
-    rotations_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
-    saved_ = rotations_;
+    std::vector<std::uint32_t> rigid_offsets(1, 0);
+    std::vector<glm::dvec3> rest_vectors;  // per rigidity row, w s (v_c − v_d)⁰
     std::vector<glm::dvec3> rest(mesh.face_count());
     dual::compute_centroids(mesh, mesh.positions, rest);
     auto add = [&](std::uint32_t c, std::uint32_t d, double scale, std::uint32_t f) {
@@ -49,7 +57,7 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
         rows.entries.push_back({c, uc, weight * scale});
         rows.entries.push_back({d, ud, -weight * scale});
         rows.entry_offsets.push_back(static_cast<std::uint32_t>(rows.entries.size()));
-        rest_vectors_.push_back(scale * (mesh.positions[c] - mesh.positions[d]));
+        rest_vectors.push_back(weight * scale * (mesh.positions[c] - mesh.positions[d]));
     };
     // Edge rows are relative: a needle's short edge gets the weight of its
     // shortness. Lengths alone would let needles (the camel's head has edges
@@ -60,9 +68,8 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
     }
     mean_edge /= static_cast<double>(std::max<std::size_t>(model.topology.edges.size(), 1));
     for (std::size_t r = 0; r < dual_rows; ++r) {
-        const std::uint32_t f = faces_[r];
+        const std::uint32_t f = rows.faces[r];
         const mesh::Triangle& t = mesh.triangles[f];
-        rest_dual_[r] = dual::dual_coordinate(model.dual, rest, f);
         if (weight > 0.0) {
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t j = model.dual.neighbors[f][k];
@@ -75,102 +82,218 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
                 if (length > 0.0) add(a, b, relative_edge_weight * mean_edge / length, f);
             }
         }
-        rigid_offsets_.push_back(static_cast<std::uint32_t>(rest_vectors_.size()));
+        rigid_offsets.push_back(static_cast<std::uint32_t>(rest_vectors.size()));
     }
+
+    stencils_.assign(dual_rows, RigidityStencil{});
+    fixed_.clear();
+    for (std::size_t r = 0; r < dual_rows; ++r) {
+        RigidityStencil& s = stencils_[r];
+        s.rest_dual = dual::dual_coordinate(model.dual, rest, rows.faces[r]);
+        s.rest_dual2 = glm::dot(s.rest_dual, s.rest_dual);
+        // The coefficients b_ki of every row of this dual row, by slot.
+        std::array<std::array<double, slots>, pairs + 1> b{};
+        std::size_t used = 0;
+        for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
+            const RowEntry& e = rows.entries[p];
+            s.vertex[used] = e.vertex;
+            s.unknown[used] = e.unknown;
+            s.dual[used] = e.coefficient;
+            b[0][used] = e.coefficient;
+            ++used;
+        }
+        for (std::size_t i = used; i < slots; ++i) {
+            s.vertex[i] = s.vertex[0];
+            s.unknown[i] = mesh::no_index;
+        }
+        s.pair.fill({s.vertex[0], s.vertex[0]});
+        // A rigidity row joins two vertices of f's dual 1-ring, which are
+        // all in the dual row.
+        auto slot_of = [&](std::uint32_t v) {
+            std::size_t i = 0;
+            while (i + 1 < used && s.vertex[i] != v) ++i;
+            return static_cast<std::uint8_t>(i);
+        };
+        const std::uint32_t first = rigid_offsets[r];
+        for (std::uint32_t k = 0; k < rigid_offsets[r + 1] - first; ++k) {
+            const std::size_t row = dual_rows + first + k;
+            const RowEntry& c = rows.entries[rows.entry_offsets[row]];
+            const RowEntry& d = rows.entries[rows.entry_offsets[row] + 1];
+            const std::uint8_t sc = slot_of(c.vertex);
+            const std::uint8_t sd = slot_of(d.vertex);
+            s.pair[k] = {c.vertex, d.vertex};
+            s.pair_weight2[k] = c.coefficient * c.coefficient;
+            s.pair_target2 += glm::dot(rest_vectors[first + k], rest_vectors[first + k]);
+            for (int x = 0; x < 3; ++x) {
+                s.pulled[x][sc] += c.coefficient * rest_vectors[first + k][x];
+                s.pulled[x][sd] += d.coefficient * rest_vectors[first + k][x];
+            }
+            b[k + 1][sc] += c.coefficient;
+            b[k + 1][sd] += d.coefficient;
+        }
+        for (std::size_t i = 0; i < used; ++i) {
+            if (s.unknown[i] == mesh::no_index) continue;
+            for (std::size_t j = 0; j < used; ++j) {
+                if (s.unknown[j] != mesh::no_index) continue;
+                double coupling = 0.0;
+                for (const auto& row : b) coupling += row[i] * row[j];
+                if (coupling != 0.0) fixed_.push_back({s.unknown[i], s.vertex[j], -coupling});
+            }
+        }
+    }
+    // The same pair comes from every dual row that holds both: one term each.
+    std::sort(fixed_.begin(), fixed_.end(), [](const FixedCoupling& x, const FixedCoupling& y) {
+        return x.unknown != y.unknown ? x.unknown < y.unknown : x.vertex < y.vertex;
+    });
+    std::size_t merged = 0;
+    for (std::size_t k = 0; k < fixed_.size(); ++k) {
+        if (merged > 0 && fixed_[merged - 1].unknown == fixed_[k].unknown &&
+            fixed_[merged - 1].vertex == fixed_[k].vertex) {
+            fixed_[merged - 1].coefficient += fixed_[k].coefficient;
+        } else {
+            fixed_[merged++] = fixed_[k];
+        }
+    }
+    fixed_.resize(merged);
+    kept_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
+    fitted_ = kept_;
 }
 
 namespace {
 
-// Row r's product with the positions, whole and its fixed part alone.
-struct RowProduct {
-    glm::dvec3 whole{0.0};
-    glm::dvec3 fixed{0.0};
+struct FitPass {
+    std::span<const RigidityStencil> stencils;
+    std::span<const glm::dquat> kept;
+    std::span<glm::dquat> fitted;
+    std::span<const glm::dvec3> positions;
+    std::span<const double> height_scale;
+    int steps;
+    std::span<double> rhs;
 };
 
-RowProduct row_product(const SystemRows& rows, std::size_t r,
-                       std::span<const glm::dvec3> positions) {
-    RowProduct out;
-    for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
-        const RowEntry& e = rows.entries[p];
-        const glm::dvec3 term = e.coefficient * positions[e.vertex];
-        out.whole += term;
-        if (e.unknown == mesh::no_index) out.fixed += term;
-    }
-    return out;
+// Two doubles, the width every x86-64 processor has: the slots go three
+// pairs at a time, in registers.
+using Lanes = double __attribute__((vector_size(16)));
+constexpr std::size_t lanes = slots / 2;
+using SlotLanes = std::array<Lanes, lanes>;
+
+[[gnu::always_inline]] inline Lanes lanes_at(const double* a) {
+    Lanes v;
+    std::memcpy(&v, a, sizeof v);
+    return v;
 }
 
-// Adds row r's share of Aᵀ (t − A_fixed p_fixed) to rhs; returns |A p − t|².
-double assemble_row(const SystemRows& rows, std::size_t r, const RowProduct& product,
-                    const glm::dvec3& target, std::span<double> rhs) {
-    const glm::dvec3 b = target - product.fixed;
-    for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
-        const RowEntry& e = rows.entries[p];
-        if (e.unknown == mesh::no_index) continue;
-        for (int c = 0; c < 3; ++c) rhs[3 * e.unknown + c] += e.coefficient * b[c];
-    }
-    const glm::dvec3 residual = product.whole - target;
-    return glm::dot(residual, residual);
+[[gnu::always_inline]] inline double lane_sum(const Lanes& v) {
+    return v[0] + v[1];
 }
 
-// The same for a rigidity row, whose two entries are known to be there.
-RowProduct pair_product(const SystemRows& rows, std::size_t r,
-                        std::span<const glm::dvec3> positions) {
-    const RowEntry& a = rows.entries[rows.entry_offsets[r]];
-    const RowEntry& b = rows.entries[rows.entry_offsets[r] + 1];
-    const glm::dvec3 ta = a.coefficient * positions[a.vertex];
-    const glm::dvec3 tb = b.coefficient * positions[b.vertex];
-    RowProduct out;
-    out.whole = ta + tb;
-    if (a.unknown == mesh::no_index) out.fixed += ta;
-    if (b.unknown == mesh::no_index) out.fixed += tb;
-    return out;
-}
-
-double assemble_pair(const SystemRows& rows, std::size_t r, const RowProduct& product,
-                     const glm::dvec3& target, std::span<double> rhs) {
-    const glm::dvec3 b = target - product.fixed;
-    for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r] + 2; ++p) {
-        const RowEntry& e = rows.entries[p];
-        if (e.unknown == mesh::no_index) continue;
-        double* out = &rhs[3 * e.unknown];
-        out[0] += e.coefficient * b.x;
-        out[1] += e.coefficient * b.y;
-        out[2] += e.coefficient * b.z;
-    }
-    const glm::dvec3 residual = product.whole - target;
-    return glm::dot(residual, residual);
-}
-
-}  // namespace
-
-double RotationFrames::fit_and_assemble(const SystemRows& rows,
-                                        std::span<const glm::dvec3> positions,
-                                        std::span<const double> height_scale, int steps,
-                                        std::span<double> rhs) {
-    std::fill(rhs.begin(), rhs.end(), 0.0);
+[[gnu::always_inline]] inline double fit_rows_body(const FitPass& pass) {
     double energy = 0.0;
-    std::array<RowProduct, max_rigidity_rows> rigid{};
-    for (std::size_t r = 0; r < faces_.size(); ++r) {
-        const double scale = height_scale.empty() ? 1.0 : height_scale[r];
-        const glm::dvec3 rest_dual = scale * rest_dual_[r];
-        const RowProduct dual = row_product(rows, r, positions);
-        glm::dmat3 covariance = glm::outerProduct(dual.whole, rest_dual);
-        const std::uint32_t first = rigid_offsets_[r];
-        const std::uint32_t count = rigid_offsets_[r + 1] - first;
-        for (std::uint32_t k = 0; k < count; ++k) {
-            rigid[k] = pair_product(rows, first_row_ + first + k, positions);
-            // The row holds w times the vector: w² in the covariance.
-            covariance += weight_ * glm::outerProduct(rigid[k].whole, rest_vectors_[first + k]);
+    for (std::size_t r = 0; r < pass.stencils.size(); ++r) {
+        const RigidityStencil& s = pass.stencils[r];
+        const double scale = pass.height_scale.empty() ? 1.0 : pass.height_scale[r];
+        // By coordinate, as arrays: glm's vec3[i] is a switch.
+        const std::array<double, 3> rest_dual{scale * s.rest_dual.x, scale * s.rest_dual.y,
+                                              scale * s.rest_dual.z};
+        std::array<SlotLanes, 3> p;  // by coordinate
+        for (std::size_t l = 0; l < lanes; ++l) {
+            const glm::dvec3& u = pass.positions[s.vertex[2 * l]];
+            const glm::dvec3& w = pass.positions[s.vertex[2 * l + 1]];
+            p[0][l] = Lanes{u.x, w.x};
+            p[1][l] = Lanes{u.y, w.y};
+            p[2][l] = Lanes{u.z, w.z};
         }
-        fit_rotation(covariance, rotations_[r], steps);
-        const glm::dmat3 rotation = glm::mat3_cast(rotations_[r]);
-        energy += assemble_row(rows, r, dual, rotation * rest_dual, rhs);
-        for (std::uint32_t k = 0; k < count; ++k) {
-            energy += assemble_pair(rows, first_row_ + first + k, rigid[k],
-                                    weight_ * (rotation * rest_vectors_[first + k]), rhs);
+        // |A_k p|² does not depend on the fit: taken before it.
+        double rows2 = 0.0;
+        std::array<SlotLanes, 3> g;
+        std::array<SlotLanes, 3> e;
+        for (std::size_t x = 0; x < 3; ++x) {
+            Lanes product = lanes_at(&s.dual[0]) * p[x][0];
+            for (std::size_t l = 1; l < lanes; ++l) product += lanes_at(&s.dual[2 * l]) * p[x][l];
+            const double dual = lane_sum(product);
+            rows2 += dual * dual;
+            const double origin = p[x][0][0];
+            for (std::size_t l = 0; l < lanes; ++l) {
+                g[x][l] = lanes_at(&s.pulled[x][2 * l]) + lanes_at(&s.dual[2 * l]) * rest_dual[x];
+                // Σ_i G_i = 0 (every row's coefficients sum to zero):
+                // positions relative to the first slot give the same
+                // covariance, with less cancellation.
+                e[x][l] = p[x][l] - origin;
+            }
+        }
+        for (std::size_t k = 0; k < pairs; ++k) {
+            const glm::dvec3 edge = pass.positions[s.pair[k][0]] - pass.positions[s.pair[k][1]];
+            rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
+        }
+        glm::dmat3 covariance;
+        for (int row = 0; row < 3; ++row) {
+            for (int column = 0; column < 3; ++column) {
+                Lanes sum = e[row][0] * g[column][0];
+                for (std::size_t l = 1; l < lanes; ++l) sum += e[row][l] * g[column][l];
+                covariance[column][row] = lane_sum(sum);
+            }
+        }
+        glm::dquat q = pass.kept[r];
+        // The one step of every iterate after a solve's first, as
+        // straight-line code.
+        const RotationFit fit = pass.steps == 1 ? fit_rotation(covariance, q, 1)
+                                                : fit_rotation(covariance, q, pass.steps);
+        pass.fitted[r] = q;
+        energy += rows2 - 2.0 * fit.alignment + scale * scale * s.rest_dual2 + s.pair_target2;
+        const glm::dmat3& rotation = fit.rotation;
+        std::array<SlotLanes, 3> pull;  // R_f G_i by coordinate
+        for (int x = 0; x < 3; ++x) {
+            for (std::size_t l = 0; l < lanes; ++l) {
+                pull[x][l] =
+                    rotation[0][x] * g[0][l] + rotation[1][x] * g[1][l] + rotation[2][x] * g[2][l];
+            }
+        }
+        for (std::size_t i = 0; i < slots; ++i) {
+            if (s.unknown[i] == mesh::no_index) continue;
+            double* out = &pass.rhs[3 * s.unknown[i]];
+            out[0] += pull[0][i / 2][i % 2];
+            out[1] += pull[1][i / 2][i % 2];
+            out[2] += pull[2][i / 2][i % 2];
         }
     }
     return energy;
+}
+
+double fit_rows(const FitPass& pass) {
+    return fit_rows_body(pass);
+}
+
+#if DFM_HAS_AVX2_FIT
+bool avx2_available() {
+    static const bool available = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") != 0;
+    }();
+    return available;
+}
+
+__attribute__((target("avx2"))) double fit_rows_avx2(const FitPass& pass) {
+    return fit_rows_body(pass);
+}
+#endif
+
+}  // namespace
+
+double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
+                                   std::span<const double> height_scale, int steps,
+                                   std::span<double> rhs) {
+    for (const FixedCoupling& c : fixed_) {
+        const glm::dvec3& p = positions[c.vertex];
+        double* out = &rhs[3 * c.unknown];
+        out[0] += c.coefficient * p.x;
+        out[1] += c.coefficient * p.y;
+        out[2] += c.coefficient * p.z;
+    }
+#if DFM_HAS_AVX2_FIT
+    if (avx2_available())
+        return fit_rows_avx2({stencils_, kept_, fitted_, positions, height_scale, steps, rhs});
+#endif
+    return fit_rows({stencils_, kept_, fitted_, positions, height_scale, steps, rhs});
 }
 
 }  // namespace dfm::deform

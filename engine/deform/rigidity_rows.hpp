@@ -22,6 +22,28 @@
 // 2-ring, and the normal matrix keeps its sparsity pattern.
 namespace dfm::deform {
 
+// One dual row and its rigidity rows, over its own vertices. Every row
+// is linear in the slots' positions, A_k p = Σ_i b_ki p_i, with a target
+// R_f g_k: so the covariance is Σ_i p_i G_iᵀ and the rows' share of
+// Aᵀ t at slot i is R_f G_i, for G_i = Σ_k b_ki g_k; and their energy
+// Σ_k |A_k p − R_f g_k|² = Σ_k |A_k p|² − 2 tr(R_fᵀ C) + Σ_k |g_k|², its
+// middle term the fit's own alignment. Unused slots and pairs have zero
+// coefficients. G_i is kept by coordinate so that its loops vectorise.
+struct RigidityStencil {
+    static constexpr std::size_t slots = 6;  // a dual row's vertices: f's and the three opposite
+    static constexpr std::size_t pairs = 6;  // rigidity rows per dual row: 3 dual, 3 face edges
+
+    std::array<std::uint32_t, slots> vertex{};
+    std::array<std::uint32_t, slots> unknown{};              // no_index: fixed, or unused
+    std::array<double, slots> dual{};                        // the dual row's coefficients
+    std::array<std::array<double, slots>, 3> pulled{};       // G_i of the rigidity rows alone
+    std::array<std::array<std::uint32_t, 2>, pairs> pair{};  // v_c, v_d
+    std::array<double, pairs> pair_weight2{};                // (w s)²: A_k p = w s (v_c − v_d)
+    glm::dvec3 rest_dual{0.0};                               // l_f at rest
+    double rest_dual2 = 0.0;                                 // |l_f|² at rest
+    double pair_target2 = 0.0;                               // Σ_k |g_k|² over the rigidity rows
+};
+
 class RotationFrames {
 public:
     // Appends the rigidity rows of each dual row of `rows` (those that touch
@@ -32,32 +54,34 @@ public:
 
     // The local step, and the global step's right-hand side in the same
     // pass: fits each dual row's rotation to `positions` (the whole mesh),
-    // starting from the last fit with at most `steps` Newton steps, then
-    // writes rhs = Aᵀ (t − A_fixed p_fixed) for the rows' targets t (3
-    // interleaved columns) and returns Σ_r |A_r p − t_r|², the rows' share
-    // of the energy (deform_energy.hpp). A fit never raises the energy of
-    // its rows over the previous rotations. `height_scale`, when not empty,
-    // scales each dual row's target (DeformSettings::scale_heights).
-    double fit_and_assemble(const SystemRows& rows, std::span<const glm::dvec3> positions,
-                            std::span<const double> height_scale, int steps, std::span<double> rhs);
+    // starting from the last kept fit (keep_fit) with at most `steps` Newton
+    // steps, then adds Aᵀ (t − A_fixed p_fixed) to rhs for the rows' targets
+    // t (3 interleaved columns; write_handle_terms starts it) and returns Σ_r |A_r p − t_r|², the
+    // rows' share of the energy (deform_energy.hpp). A fit never raises the energy of its rows over
+    // the kept rotations. `height_scale`, when not empty, scales each dual row's target
+    // (DeformSettings::scale_heights).
+    double fit_and_add(std::span<const glm::dvec3> positions, std::span<const double> height_scale,
+                       int steps, std::span<double> rhs);
 
-    // Keeps the current rotations, and goes back to them: a refused trial
-    // step must not become the next fit's starting point.
-    void remember() { saved_ = rotations_; }
-    void recall() { rotations_ = saved_; }
+    // Makes the last fit the next one's starting point. A refused trial step
+    // is not kept: the next fit starts again from the rotations before it.
+    void keep_fit() { kept_.swap(fitted_); }
 
-    std::size_t dual_rows() const { return rest_dual_.size(); }
+    std::size_t dual_rows() const { return stencils_.size(); }
 
 private:
-    static constexpr std::size_t max_rigidity_rows = 6;  // per dual row: 3 dual, 3 face edges
-    double weight_ = 0.0;
-    std::size_t first_row_ = 0;                 // the first rigidity row in the system
-    std::vector<std::uint32_t> faces_;          // per dual row
-    std::vector<glm::dvec3> rest_dual_;         // l_f at rest, per dual row
-    std::vector<std::uint32_t> rigid_offsets_;  // dual row r's rigidity rows: [r], [r + 1]
-    std::vector<glm::dvec3> rest_vectors_;      // per rigidity row, unweighted
-    std::vector<glm::dquat> rotations_;         // per dual row
-    std::vector<glm::dquat> saved_;
+    // −(Aᵀ A)_uv between an unknown u and a fixed vertex v: the fixed
+    // vertices' share of the right-hand side, −Σ (Aᵀ A)_uv p_v.
+    struct FixedCoupling {
+        std::uint32_t unknown;
+        std::uint32_t vertex;
+        double coefficient;
+    };
+
+    std::vector<RigidityStencil> stencils_;  // per dual row
+    std::vector<FixedCoupling> fixed_;
+    std::vector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
+    std::vector<glm::dquat> fitted_;  // per dual row: the last fit
 };
 
 }  // namespace dfm::deform
