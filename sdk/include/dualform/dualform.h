@@ -494,9 +494,10 @@ DFM_API dfm_result dfm_session_set_targets(dfm_session* session, const dfm_vec3_
 /* Number of handle vertices (targets) of the session. */
 DFM_API dfm_result dfm_session_get_handle_count(const dfm_session* session, size_t* out);
 
-/* Changes the tolerance and iteration cap for later solves. handle_weight and
- * hard_handles are fixed at creation (a different value is
- * DFM_ERROR_UNSUPPORTED); zero fields keep their current values. */
+/* Changes the tolerance and iteration cap for later solves. handle_weight,
+ * hard_handles, preconditioner and disable_prediction are fixed at creation
+ * (a different value is DFM_ERROR_UNSUPPORTED); zero fields keep their
+ * current values. */
 DFM_API dfm_result dfm_session_set_solver(dfm_session* session,
                                           const dfm_solver_settings* settings);
 
