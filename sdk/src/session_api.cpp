@@ -42,14 +42,14 @@ std::underlying_type_t<dfm_preconditioner> preconditioner_value(const dfm_precon
 }
 
 // False for a value no enumerator has.
-bool preconditioner_from(const dfm_preconditioner& in, deform::Preconditioner& out) {
+bool preconditioner_from(const dfm_preconditioner& in, solver::PreconditionerKind& out) {
     switch (preconditioner_value(in)) {
         case DFM_PRECONDITIONER_DEFAULT:
-        case DFM_PRECONDITIONER_CHOLESKY: out = deform::Preconditioner::cholesky; return true;
+        case DFM_PRECONDITIONER_CHOLESKY: out = solver::PreconditionerKind::cholesky; return true;
         case DFM_PRECONDITIONER_INCOMPLETE_CHOLESKY:
-            out = deform::Preconditioner::incomplete_cholesky;
+            out = solver::PreconditionerKind::incomplete_cholesky;
             return true;
-        case DFM_PRECONDITIONER_JACOBI: out = deform::Preconditioner::jacobi; return true;
+        case DFM_PRECONDITIONER_JACOBI: out = solver::PreconditionerKind::jacobi; return true;
         default: return false;
     }
 }
@@ -359,7 +359,7 @@ extern "C" DFM_API dfm_result dfm_session_set_solver(dfm_session* session,
             return report(fn, DFM_ERROR_UNSUPPORTED,
                           "handle_weight and hard_handles are fixed when the session is created");
         }
-        deform::Preconditioner preconditioner = s->settings.preconditioner;
+        solver::PreconditionerKind preconditioner = s->settings.preconditioner;
         if (preconditioner_value(settings->preconditioner) != DFM_PRECONDITIONER_DEFAULT &&
             !preconditioner_from(settings->preconditioner, preconditioner)) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, "settings->preconditioner is unknown");
