@@ -185,7 +185,7 @@ TEST_CASE("paper's method: selectable, and it folds the camel's neck where the d
     deform::DeformSettings paper;
     paper.method = deform::DeformMethod::paper;
     const Solved s = solve(e, paper);
-    // DESIGN.md: the fold is the paper energy's minimiser (measured: 100
+    // docs/method.md: the fold is the paper energy's minimiser (measured: 100
     // iterations without converging, about ten flipped faces).
     CHECK(s.quality.flipped_faces > 0);
     CHECK(s.quality.mean_abs_log_edge > 0.1);
