@@ -676,11 +676,11 @@ DFM_API dfm_result dfm_session_get_solve_report(dfm_session* session, dfm_solve_
 typedef struct dfm_solve_details {
     uint32_t struct_size; /* sizeof(dfm_solve_details); see the conventions */
     /* dfm_solve_report.setup_ms in parts, ms */
-    double setup_rows_ms;      /* collecting the system's rows */
-    double setup_assembly_ms;  /* assembling the normal matrix */
-    double setup_ordering_ms;  /* the factor's fill-reducing ordering */
-    double setup_symbolic_ms;  /* the factor's symbolic phase */
-    double setup_numeric_ms;   /* the factor's numeric phase */
+    double setup_rows_ms;     /* collecting the system's rows */
+    double setup_assembly_ms; /* assembling the normal matrix */
+    double setup_ordering_ms; /* the factor's fill-reducing ordering */
+    double setup_symbolic_ms; /* the factor's symbolic phase */
+    double setup_numeric_ms;  /* the factor's numeric phase */
     /* dfm_frame_info.solve_ms in parts, ms summed over the frame's iterations */
     double linear_solve_ms;    /* the linear solves */
     double right_hand_side_ms; /* the right-hand sides */
