@@ -43,7 +43,7 @@ struct DeformSettings {
     bool scale_heights = false;
     // Accuracy of each linear solve, in units of the rest diagonal.
     double linear_tolerance = 1e-8;
-    Preconditioner preconditioner = Preconditioner::cholesky;
+    solver::PreconditionerKind preconditioner = solver::PreconditionerKind::cholesky;
     // Steps of history for Anderson acceleration of the outer iteration;
     // 0 runs the plain iteration.
     int anderson_memory = 8;

@@ -11,29 +11,6 @@
 
 namespace dfm::deform {
 
-const char* preconditioner_name(Preconditioner p) {
-    switch (p) {
-        case Preconditioner::jacobi: return "jacobi";
-        case Preconditioner::incomplete_cholesky: return "incomplete_cholesky";
-        case Preconditioner::cholesky: return "cholesky";
-    }
-    return "unknown";
-}
-
-namespace {
-
-solver::PreconditionerKind kind_of(Preconditioner p) {
-    switch (p) {
-        case Preconditioner::jacobi: return solver::PreconditionerKind::jacobi;
-        case Preconditioner::incomplete_cholesky:
-            return solver::PreconditionerKind::incomplete_cholesky;
-        case Preconditioner::cholesky: return solver::PreconditionerKind::cholesky;
-    }
-    return solver::PreconditionerKind::cholesky;
-}
-
-}  // namespace
-
 struct LinearSolver::State {
     solver::CsrMatrix matrix;
     std::unique_ptr<solver::Preconditioner> preconditioner;
@@ -47,16 +24,16 @@ LinearSolver::~LinearSolver() = default;
 LinearSolver::LinearSolver(LinearSolver&&) noexcept = default;
 LinearSolver& LinearSolver::operator=(LinearSolver&&) noexcept = default;
 
-Status LinearSolver::setup(solver::CsrMatrix matrix, Preconditioner preconditioner,
+Status LinearSolver::setup(solver::CsrMatrix matrix, solver::PreconditionerKind preconditioner,
                            solver::ThreadPool* pool) {
     auto state = std::make_unique<State>();
     state->matrix = std::move(matrix);
-    state->preconditioner = solver::make_preconditioner(kind_of(preconditioner), pool);
+    state->preconditioner = solver::make_preconditioner(preconditioner, pool);
     if (Status s = state->preconditioner->setup(state->matrix); !s) return s;
     state->preconditioner->reserve(3);
     state->workspace = solver::PbcgWorkspace(state->matrix.rows, 3);
     state->result.columns.resize(3);
-    state->exact = preconditioner == Preconditioner::cholesky;
+    state->exact = state->preconditioner->is_exact();
     state_ = std::move(state);
     return Status::ok();
 }

@@ -6,14 +6,11 @@
 
 #include "core/status.hpp"
 #include "solver/csr_matrix.hpp"
+#include "solver/preconditioner_kind.hpp"
 #include "solver/sparse_cholesky.hpp"
 #include "solver/thread_pool.hpp"
 
 namespace dfm::deform {
-
-enum class Preconditioner { jacobi, incomplete_cholesky, cholesky };
-
-const char* preconditioner_name(Preconditioner p);
 
 // The normal matrix of an edit, prepared once and solved for x, y and z
 // together every iteration. Owns the matrix, the preconditioner and the
@@ -27,7 +24,7 @@ public:
 
     // `pool` (optional, not owned, outliving the solver) spreads the factor's
     // work; results are bit-identical whatever its thread count.
-    Status setup(solver::CsrMatrix matrix, Preconditioner preconditioner,
+    Status setup(solver::CsrMatrix matrix, solver::PreconditionerKind preconditioner,
                  solver::ThreadPool* pool = nullptr);
 
     enum class Accuracy {

@@ -8,6 +8,7 @@
 #include "core/status.hpp"
 #include "solver/csr_matrix.hpp"
 #include "solver/ordering.hpp"
+#include "solver/preconditioner_kind.hpp"
 #include "solver/sparse_cholesky.hpp"
 #include "solver/thread_pool.hpp"
 
@@ -112,8 +113,6 @@ private:
     SparseCholesky cholesky_;
     std::vector<double> work_;
 };
-
-enum class PreconditionerKind { jacobi, incomplete_cholesky, cholesky };
 
 // A new preconditioner of the given kind; `pool` is used by those that can
 // (the Cholesky factorization) and must outlive the result.

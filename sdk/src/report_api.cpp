@@ -1,7 +1,8 @@
-// The report calls of dualform.h: quality figures, solver figures, Loop
-// subdivision, load figures, the mesh summary and save options: what the
-// dualform tool needs to do its work through the C API alone.
+// The report calls of dualform.h: quality figures, solver figures and their
+// details, Loop subdivision, load figures, the mesh summary and save options:
+// what the dualform tool needs to do its work through the C API alone.
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -25,6 +26,7 @@ namespace {
 
 constexpr std::uint32_t max_subdivision_steps = 3;
 constexpr std::size_t save_options_0_2 = DFM_END_OF(dfm_save_options, obj_normals);
+constexpr std::size_t solve_details_first = DFM_END_OF(dfm_solve_details, predicted);
 
 }  // namespace
 
@@ -86,6 +88,44 @@ extern "C" DFM_API dfm_result dfm_session_get_solve_report(dfm_session* session,
             out->linear_converged = f.report.linear_converged;
             fill_frame_info(f, info);
         });
+        return DFM_OK;
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_session_get_solve_details(dfm_session* session,
+                                                            dfm_solve_details* out,
+                                                            dfm_frame_info* info) {
+    constexpr const char* fn = "dfm_session_get_solve_details";
+    return guarded(fn, [&] {
+        if (info != nullptr) *info = dfm_frame_info{};
+        SessionObject* s = resolve_session(session);
+        if (s == nullptr) return bad_handle(fn, "session", session);
+        // The host's struct_size says how many bytes are its own to write.
+        dfm_solve_details details;
+        if (dfm_result r = read_descriptor(fn, "out", out, solve_details_first, details);
+            r != DFM_OK) {
+            return r;
+        }
+        const std::uint32_t struct_size = details.struct_size;
+        const std::size_t size = struct_size != 0 ? struct_size : solve_details_first;
+        details = dfm_solve_details{};
+        details.struct_size = struct_size;
+        const deform::SetupReport setup = s->async->setup_report();
+        details.setup_rows_ms = setup.rows_ms;
+        details.setup_assembly_ms = setup.assembly_ms;
+        details.setup_ordering_ms = setup.ordering_ms;
+        details.setup_symbolic_ms = setup.symbolic_ms;
+        details.setup_numeric_ms = setup.numeric_ms;
+        s->async->read([&](const deform::Frame& f) {
+            details.linear_solve_ms = f.report.linear_ms;
+            details.right_hand_side_ms = f.report.rhs_ms;
+            details.normals_ms = f.report.normals_ms;
+            details.anderson_ms = f.report.anderson_ms;
+            details.predicted = f.report.predicted;
+            fill_frame_info(f, info);
+        });
+        // A newer, larger struct keeps its zero tail (read_descriptor checked it).
+        std::memcpy(out, &details, std::min(size, sizeof details));
         return DFM_OK;
     });
 }

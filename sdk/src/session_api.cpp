@@ -34,6 +34,26 @@ constexpr std::uint32_t default_max_iterations = 100;
 // What struct_size 0 stands for: dfm_session_desc as version 0.2 had it.
 constexpr std::size_t session_desc_0_2 = DFM_END_OF(dfm_session_desc, on_frame_user);
 
+// The field read as an integer, as the method: a host may pass any value.
+std::underlying_type_t<dfm_preconditioner> preconditioner_value(const dfm_preconditioner& in) {
+    std::underlying_type_t<dfm_preconditioner> value;
+    std::memcpy(&value, &in, sizeof value);
+    return value;
+}
+
+// False for a value no enumerator has.
+bool preconditioner_from(const dfm_preconditioner& in, solver::PreconditionerKind& out) {
+    switch (preconditioner_value(in)) {
+        case DFM_PRECONDITIONER_DEFAULT:
+        case DFM_PRECONDITIONER_CHOLESKY: out = solver::PreconditionerKind::cholesky; return true;
+        case DFM_PRECONDITIONER_INCOMPLETE_CHOLESKY:
+            out = solver::PreconditionerKind::incomplete_cholesky;
+            return true;
+        case DFM_PRECONDITIONER_JACOBI: out = solver::PreconditionerKind::jacobi; return true;
+        default: return false;
+    }
+}
+
 Status settings_from(const dfm_solver_settings& in, deform::DeformSettings& out) {
     for (std::size_t i = 0; i < std::size(in.reserved); ++i) {
         if (in.reserved[i] != 0) {
@@ -59,6 +79,14 @@ Status settings_from(const dfm_solver_settings& in, deform::DeformSettings& out)
     }
     out.method = method == DFM_METHOD_PAPER ? deform::DeformMethod::paper
                                             : deform::DeformMethod::fitted_rotations;
+    if (!preconditioner_from(in.preconditioner, out.preconditioner)) {
+        return Status(Errc::invalid_argument,
+                      "solver.preconditioner: unknown preconditioner " +
+                          std::to_string(preconditioner_value(in.preconditioner)) +
+                          " (DFM_PRECONDITIONER_DEFAULT, _CHOLESKY, _INCOMPLETE_CHOLESKY or "
+                          "_JACOBI expected)");
+    }
+    out.predict_frames = !in.disable_prediction;
     if (!(out.tolerance > 0.0) || !std::isfinite(out.tolerance)) {
         return Status(Errc::invalid_argument, "solver.tolerance must be positive and finite");
     }
@@ -330,6 +358,17 @@ extern "C" DFM_API dfm_result dfm_session_set_solver(dfm_session* session,
             (settings->hard_handles && !s->settings.hard_handles)) {
             return report(fn, DFM_ERROR_UNSUPPORTED,
                           "handle_weight and hard_handles are fixed when the session is created");
+        }
+        solver::PreconditionerKind preconditioner = s->settings.preconditioner;
+        if (preconditioner_value(settings->preconditioner) != DFM_PRECONDITIONER_DEFAULT &&
+            !preconditioner_from(settings->preconditioner, preconditioner)) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "settings->preconditioner is unknown");
+        }
+        if (preconditioner != s->settings.preconditioner ||
+            (settings->disable_prediction && s->settings.predict_frames)) {
+            return report(fn, DFM_ERROR_UNSUPPORTED,
+                          "preconditioner and disable_prediction are fixed when the session is "
+                          "created");
         }
         if (settings->tolerance != 0.0 &&
             (!(settings->tolerance > 0.0) || !std::isfinite(settings->tolerance))) {

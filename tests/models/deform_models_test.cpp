@@ -96,7 +96,7 @@ TEST_CASE("cow: the dual Laplacian and one fixed vertex rebuild the mesh") {
         }
     }
     deform::LinearSolver solver;
-    REQUIRE(solver.setup(std::move(n), deform::Preconditioner::cholesky).is_ok());
+    REQUIRE(solver.setup(std::move(n), solver::PreconditionerKind::cholesky).is_ok());
     std::vector<double> x(rhs.size(), 0.0);  // start far away: everything at the origin
     std::size_t iterations = 0;
     REQUIRE(solver

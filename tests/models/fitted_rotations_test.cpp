@@ -12,8 +12,8 @@
 
 #include "deform/deform_session.hpp"
 #include "deform/quality.hpp"
+#include "dualform/api_edit.hpp"
 #include "dualform/edit_chain.hpp"
-#include "dualform/edit_setup.hpp"
 #include "dualform/scenario.hpp"
 #include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
@@ -43,9 +43,14 @@ std::vector<std::uint32_t> ball(const deform::MeshModel& model, std::uint32_t ce
     return out;
 }
 
+// A scenario resolved as the dualform tool resolves it (through the C API),
+// and the engine's model of the same mesh.
 struct ScenarioEdit {
     deform::MeshModel model;
-    cli::EditSetup edit;
+    std::vector<std::uint32_t> roi;
+    std::vector<std::uint8_t> in_roi;
+    std::vector<std::vector<std::uint32_t>> handle_groups;
+    std::vector<glm::dvec3> targets;  // one per handle vertex, in group order
 };
 
 void load_edit(const std::string& name, ScenarioEdit& out) {
@@ -53,8 +58,23 @@ void load_edit(const std::string& name, ScenarioEdit& out) {
     REQUIRE(cli::load_scenario(std::filesystem::path(DUALFORM_SCENARIO_DIR) / (name + ".json"),
                                scenario)
                 .is_ok());
-    REQUIRE(cli::load_scenario_model(scenario, out.model).is_ok());
-    REQUIRE(cli::resolve_edit(scenario, out.model, out.edit).is_ok());
+    cli::ScenarioMesh mesh;
+    REQUIRE(cli::open_scenario_mesh(scenario, mesh).is_ok());
+    cli::ScenarioEdit edit;
+    REQUIRE(cli::resolve_scenario_edit(scenario, mesh, edit).is_ok());
+    std::vector<std::uint32_t> indices;
+    REQUIRE(cli::read_mesh_indices(mesh, indices).is_ok());
+    mesh::Mesh m;
+    m.positions = mesh.rest;
+    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+        m.triangles.push_back({indices[t], indices[t + 1], indices[t + 2]});
+    }
+    out.model = deform::build_mesh_model(std::move(m));
+    out.roi = edit.roi.vertices;
+    out.in_roi.assign(out.model.mesh.vertex_count(), 0);
+    for (const std::uint32_t v : out.roi) out.in_roi[v] = 1;
+    out.handle_groups = edit.groups;
+    out.targets = edit.targets;
 }
 
 struct Solved {
@@ -65,17 +85,16 @@ struct Solved {
 
 Solved solve(const ScenarioEdit& e, const deform::DeformSettings& settings) {
     std::unique_ptr<deform::DeformSession> s;
-    REQUIRE(deform::DeformSession::create(e.model, e.edit.roi, e.edit.handle_groups, settings, s)
-                .is_ok());
-    REQUIRE(s->set_targets(e.edit.targets).is_ok());
+    REQUIRE(deform::DeformSession::create(e.model, e.roi, e.handle_groups, settings, s).is_ok());
+    REQUIRE(s->set_targets(e.targets).is_ok());
     Solved out;
     deform::DeformSession::Control control;
     control.on_iteration = [&out](const deform::SolveReport& r) {
         out.energies.push_back(r.energy);
     };
     REQUIRE(s->solve(out.report, &control).is_ok());
-    out.quality = deform::measure_quality(e.model, s->positions(), e.edit.in_roi,
-                                          s->handle_vertices(), s->targets());
+    out.quality = deform::measure_quality(e.model, s->positions(), e.in_roi, s->handle_vertices(),
+                                          s->targets());
     return out;
 }
 
@@ -166,7 +185,7 @@ TEST_CASE("paper's method: selectable, and it folds the camel's neck where the d
     deform::DeformSettings paper;
     paper.method = deform::DeformMethod::paper;
     const Solved s = solve(e, paper);
-    // DESIGN.md: the fold is the paper energy's minimiser (measured: 100
+    // docs/method.md: the fold is the paper energy's minimiser (measured: 100
     // iterations without converging, about ten flipped faces).
     CHECK(s.quality.flipped_faces > 0);
     CHECK(s.quality.mean_abs_log_edge > 0.1);

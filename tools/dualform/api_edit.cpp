@@ -92,8 +92,8 @@ void group_targets(const HandleSpec& spec, const std::vector<std::uint32_t>& gro
 
 }  // namespace
 
-Status open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out) {
-    if (Status s = create_context(out.context); !s) return s;
+Status open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out, std::uint32_t worker_count) {
+    if (Status s = create_context(out.context, worker_count); !s) return s;
     const std::filesystem::path written(scenario.mesh);
     const std::string path = scenario.mesh.starts_with("model:") || written.is_absolute()
                                  ? scenario.mesh

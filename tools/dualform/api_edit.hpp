@@ -13,7 +13,8 @@
 namespace dfm::cli {
 
 // A scenario's mesh through the C API: loaded (a path relative to the
-// scenario, or model:NAME) and subdivided as it asks.
+// scenario, or model:NAME) and subdivided as it asks, in a context whose
+// sessions solve with `worker_count` threads.
 struct ScenarioMesh {
     ContextPtr context;
     MeshPtr mesh;
@@ -21,7 +22,8 @@ struct ScenarioMesh {
     std::vector<glm::dvec3> rest;  // the rest positions
 };
 
-Status open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out);
+Status open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out,
+                          std::uint32_t worker_count = 1);
 
 // Reads the info and rest positions again, after a bake.
 Status refresh_scenario_mesh(ScenarioMesh& mesh);

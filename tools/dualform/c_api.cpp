@@ -38,11 +38,12 @@ Status api_status(dfm_result result, const std::string& what) {
     return Status(errc_of(result), std::move(message));
 }
 
-Status create_context(ContextPtr& out) {
+Status create_context(ContextPtr& out, std::uint32_t worker_count) {
     const std::string models = tools::models_folder_from_environment().string();
     dfm_context_desc desc = {};
     desc.models_directory = models.c_str();
     desc.log = print_warning;
+    desc.worker_count = worker_count;
     dfm_context* context = nullptr;
     if (Status s = api_status(dfm_context_create(&desc, &context)); !s) return s;
     out.reset(context);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -25,7 +26,8 @@ using SessionPtr = std::unique_ptr<dfm_session, HandleDeleter<dfm_session, dfm_s
 Status api_status(dfm_result result, const std::string& what = {});
 
 // A context configured from the tool's environment (the models folder of
-// model:NAME), with load warnings printed on stderr as "warning: ...".
-Status create_context(ContextPtr& out);
+// model:NAME), with load warnings printed on stderr as "warning: ...", whose
+// sessions solve with `worker_count` threads.
+Status create_context(ContextPtr& out, std::uint32_t worker_count = 1);
 
 }  // namespace dfm::cli

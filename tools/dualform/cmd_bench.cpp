@@ -1,11 +1,11 @@
 #include <sys/resource.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <initializer_list>
-#include <memory>
+#include <iterator>
 #include <numeric>
 #include <optional>
 #include <string>
@@ -13,15 +13,13 @@
 #include <utility>
 #include <vector>
 
-#include "deform/deform_session.hpp"
-#include "deform/quality.hpp"
+#include "dualform/api_edit.hpp"
+#include "dualform/c_api.hpp"
 #include "dualform/commands.hpp"
 #include "dualform/edit_report.hpp"
-#include "dualform/edit_setup.hpp"
 #include "dualform/file_output.hpp"
 #include "dualform/scenario.hpp"
 #include "json/json_writer.hpp"
-#include "solver/thread_pool.hpp"
 
 // Benchmarks scenarios: set-up and the solve from rest, repeated, then a
 // warm drag of 60 frames, each solved to tolerance from the previous frame.
@@ -34,12 +32,6 @@ constexpr const char* usage =
     "       [--preconditioner cholesky|incomplete_cholesky|jacobi] [--workers N]\n"
     "       [--no-prediction] [--tolerance T]";
 constexpr int drag_frames = 60;
-
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
 
 void write_spread(json::JsonWriter& json, std::string_view key, std::vector<double> values) {
     std::sort(values.begin(), values.end());
@@ -70,24 +62,24 @@ double median(std::vector<double> values) {
 struct SetupParts {
     std::vector<double> rows, assembly, ordering, symbolic, numeric;
 
-    void add(const deform::SetupReport& r) {
-        rows.push_back(r.rows_ms);
-        assembly.push_back(r.assembly_ms);
-        ordering.push_back(r.ordering_ms);
-        symbolic.push_back(r.symbolic_ms);
-        numeric.push_back(r.numeric_ms);
+    void add(const dfm_solve_details& d) {
+        rows.push_back(d.setup_rows_ms);
+        assembly.push_back(d.setup_assembly_ms);
+        ordering.push_back(d.setup_ordering_ms);
+        symbolic.push_back(d.setup_symbolic_ms);
+        numeric.push_back(d.setup_numeric_ms);
     }
 };
 
 struct IterationParts {
     std::vector<double> linear, rhs, normals, anderson;
 
-    void add(const deform::SolveReport& r) {
-        const double per = 1.0 / std::max(1, r.iterations);
-        linear.push_back(r.linear_ms * per);
-        rhs.push_back(r.rhs_ms * per);
-        normals.push_back(r.normals_ms * per);
-        anderson.push_back(r.anderson_ms * per);
+    void add(const dfm_solve_details& d, std::uint32_t iterations) {
+        const double per = 1.0 / std::max(1u, iterations);
+        linear.push_back(d.linear_solve_ms * per);
+        rhs.push_back(d.right_hand_side_ms * per);
+        normals.push_back(d.normals_ms * per);
+        anderson.push_back(d.anderson_ms * per);
     }
 };
 
@@ -99,77 +91,108 @@ void write_medians(
     json.end_object();
 }
 
-struct Run {
-    std::unique_ptr<deform::DeformSession> session;
-    deform::SolveReport solve;
-    double setup_ms = 0.0;
+// A solved frame as the reports give it.
+struct Solved {
+    dfm_frame_info info{};
+    dfm_solve_report report{};
+    dfm_solve_details details{};
 };
 
-Status run_once(const deform::MeshModel& model, const EditSetup& edit, Run& run) {
-    run.session.reset();  // one session at a time, so the peak memory is one edit's
-    const auto t0 = Clock::now();
-    if (Status s = deform::DeformSession::create(model, edit.roi, edit.handle_groups, edit.settings,
-                                                 run.session);
-        !s) {
+Status solve_frame(dfm_session* session, Solved& out) {
+    if (Status s = api_status(dfm_session_solve(session, nullptr)); !s) return s;
+    if (Status s = api_status(dfm_session_get_solve_report(session, &out.report, &out.info)); !s)
         return s;
+    out.details = dfm_solve_details{};
+    out.details.struct_size = sizeof out.details;
+    if (Status s = api_status(dfm_session_get_solve_details(session, &out.details, nullptr)); !s)
+        return s;
+    if (out.info.status != DFM_OK) {
+        return Status(Errc::numerical, std::string("the solve broke down (") +
+                                           dfm_result_name(out.info.status) + ")");
     }
-    run.setup_ms = ms_since(t0);
-    if (Status s = run.session->set_targets(edit.targets); !s) return s;
-    return run.session->solve(run.solve);
+    return Status::ok();
+}
+
+Status set_targets(dfm_session* session, const std::vector<glm::dvec3>& targets) {
+    dfm_vec3_input input = {};
+    input.data = targets.data();
+    input.count = targets.size();
+    input.type = DFM_SCALAR_FLOAT64;
+    return api_status(dfm_session_set_targets(session, &input));
 }
 
 // What the command line changes in every scenario's settings.
 struct Overrides {
-    std::optional<deform::Preconditioner> preconditioner;
-    solver::ThreadPool* pool = nullptr;
+    std::optional<dfm_preconditioner> preconditioner;
+    std::uint32_t workers = 1;
     bool predict_frames = true;
     std::optional<double> tolerance;
 };
+
+struct PreconditionerName {
+    dfm_preconditioner value;
+    const char* name;
+};
+
+constexpr PreconditionerName preconditioner_names[] = {
+    {DFM_PRECONDITIONER_CHOLESKY, "cholesky"},
+    {DFM_PRECONDITIONER_INCOMPLETE_CHOLESKY, "incomplete_cholesky"},
+    {DFM_PRECONDITIONER_JACOBI, "jacobi"},
+};
+
+const char* preconditioner_name(dfm_preconditioner p) {
+    for (const PreconditionerName& n : preconditioner_names) {
+        if (n.value == p) return n.name;
+    }
+    return preconditioner_names[0].name;  // DFM_PRECONDITIONER_DEFAULT
+}
+
+// dfm_solver_settings.tolerance's default, for the report of a scenario that sets none.
+constexpr double default_tolerance = 1e-5;
 
 Status bench_scenario(const std::string& path, int repeat, const Overrides& overrides,
                       json::JsonWriter& json) {
     Scenario scenario;
     if (Status s = load_scenario(path, scenario); !s) return s;
-    deform::MeshModel model;
-    if (Status s = load_scenario_model(scenario, model); !s) return s;
-    EditSetup edit;
-    if (Status s = resolve_edit(scenario, model, edit); !s)
+    ScenarioMesh mesh;
+    if (Status s = open_scenario_mesh(scenario, mesh, overrides.workers); !s) return s;
+    ScenarioEdit edit;
+    if (Status s = resolve_scenario_edit(scenario, mesh, edit); !s)
         return Status(s.code(), path + ": " + s.message());
-    if (overrides.preconditioner) edit.settings.preconditioner = *overrides.preconditioner;
-    edit.settings.pool = overrides.pool;
-    edit.settings.predict_frames = overrides.predict_frames;
-    if (overrides.tolerance) edit.settings.tolerance = *overrides.tolerance;
+    if (overrides.preconditioner) edit.solver.preconditioner = *overrides.preconditioner;
+    edit.solver.disable_prediction = !overrides.predict_frames;
+    if (overrides.tolerance) edit.solver.tolerance = *overrides.tolerance;
 
     std::vector<double> setup, solve, per_iteration;
     SetupParts setup_parts;
     IterationParts solve_parts;
-    Run run;
+    SessionPtr session;
+    Solved solved;
     for (int r = 0; r < repeat; ++r) {
-        if (Status s = run_once(model, edit, run); !s)
+        session.reset();  // one session at a time, so the peak memory is one edit's
+        if (Status s = start_session(mesh, edit, session); !s)
             return Status(s.code(), path + ": " + s.message());
-        setup.push_back(run.setup_ms);
-        solve.push_back(run.solve.solve_ms);
-        per_iteration.push_back(run.solve.solve_ms / std::max(1, run.solve.iterations));
-        setup_parts.add(run.session->setup_report());
-        solve_parts.add(run.solve);
+        if (Status s = solve_frame(session.get(), solved); !s)
+            return Status(s.code(), path + ": " + s.message());
+        setup.push_back(solved.report.setup_ms);
+        solve.push_back(solved.info.solve_ms);
+        per_iteration.push_back(solved.info.solve_ms / std::max(1u, solved.info.iterations));
+        setup_parts.add(solved.details);
+        solve_parts.add(solved.details, solved.info.iterations);
     }
-    const deform::QualityReport quality =
-        deform::measure_quality(model, run.session->positions(), edit.in_roi,
-                                run.session->handle_vertices(), run.session->targets());
-
-    const deform::SetupReport setup_report = run.session->setup_report();
-    const deform::SolveReport solved = run.solve;
-    run.session.reset();
+    dfm_quality quality = {};
+    if (Status s = api_status(dfm_session_measure_quality(session.get(), &quality, nullptr)); !s)
+        return s;
+    session.reset();
 
     // The drag: a fresh session, targets moved from rest to the scenario's
     // in equal steps, each frame warm-started from the last.
-    std::unique_ptr<deform::DeformSession> drag;
-    if (Status s =
-            deform::DeformSession::create(model, edit.roi, edit.handle_groups, edit.settings, drag);
-        !s) {
-        return s;
+    SessionPtr drag;
+    if (Status s = start_session(mesh, edit, drag); !s) return s;
+    std::vector<glm::dvec3> start;
+    for (const std::vector<std::uint32_t>& group : edit.groups) {
+        for (const std::uint32_t v : group) start.push_back(mesh.rest[v]);
     }
-    std::vector<glm::dvec3> start(drag->targets().begin(), drag->targets().end());
     std::vector<glm::dvec3> frame_targets(start.size());
     std::vector<double> frame_ms;
     std::vector<double> frame_iterations;
@@ -180,31 +203,31 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
         const double t = static_cast<double>(f) / drag_frames;
         for (std::size_t h = 0; h < start.size(); ++h)
             frame_targets[h] = start[h] + t * (edit.targets[h] - start[h]);
-        if (Status s = drag->set_targets(frame_targets); !s) return s;
-        deform::SolveReport frame;
-        if (Status s = drag->solve(frame); !s) return s;
-        frame_ms.push_back(frame.solve_ms);
-        frame_iterations.push_back(frame.iterations);
-        frame_parts.add(frame);
-        unconverged += frame.converged ? 0 : 1;
-        predicted += frame.predicted ? 1 : 0;
+        if (Status s = set_targets(drag.get(), frame_targets); !s) return s;
+        Solved frame;
+        if (Status s = solve_frame(drag.get(), frame); !s) return s;
+        frame_ms.push_back(frame.info.solve_ms);
+        frame_iterations.push_back(frame.info.iterations);
+        frame_parts.add(frame.details, frame.info.iterations);
+        unconverged += frame.info.converged ? 0 : 1;
+        predicted += frame.details.predicted ? 1 : 0;
     }
 
-    const deform::SetupReport& sr = setup_report;
+    const dfm_solve_report& sr = solved.report;
     json.begin_object();
     json.key("scenario").value(path);
     json.key("mesh").value(scenario.mesh);
-    json.key("n_vertices").value(std::uint64_t{model.mesh.vertex_count()});
-    json.key("n_roi").value(std::uint64_t{edit.roi.size()});
+    json.key("n_vertices").value(std::uint64_t{mesh.info.vertex_count});
+    json.key("n_roi").value(std::uint64_t{edit.roi.vertices.size()});
     json.key("n_unknowns").value(std::uint64_t{sr.unknowns});
     json.key("n_rows").value(std::uint64_t{sr.rows});
     json.key("normal_nonzeros").value(std::uint64_t{sr.normal_nonzeros});
-    json.key("preconditioner").value(deform::preconditioner_name(edit.settings.preconditioner));
+    json.key("preconditioner").value(preconditioner_name(edit.solver.preconditioner));
     json.key("repeat").value(std::uint64_t(repeat));
-    json.key("workers").value(
-        std::uint64_t{overrides.pool != nullptr ? overrides.pool->thread_count() : 1});
+    json.key("workers").value(std::uint64_t{overrides.workers});
     json.key("frame_prediction").value(overrides.predict_frames);
-    json.key("tolerance").value(edit.settings.tolerance);
+    json.key("tolerance")
+        .value(edit.solver.tolerance != 0.0 ? edit.solver.tolerance : default_tolerance);
     write_spread(json, "setup_ms", setup);
     write_medians(json, "setup_parts_ms",
                   {{"rows", &setup_parts.rows},
@@ -219,9 +242,9 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
                    {"right_hand_side", &solve_parts.rhs},
                    {"normals", &solve_parts.normals},
                    {"anderson", &solve_parts.anderson}});
-    json.key("iterations").value(std::uint64_t(solved.iterations));
-    json.key("converged").value(solved.converged);
-    json.key("krylov_iterations").value(std::uint64_t{solved.krylov_iterations});
+    json.key("iterations").value(std::uint64_t{solved.info.iterations});
+    json.key("converged").value(solved.info.converged);
+    json.key("krylov_iterations").value(std::uint64_t{sr.krylov_iterations});
     json.key("drag").begin_object();
     json.key("frames").value(std::uint64_t{drag_frames});
     json.key("unconverged_frames").value(std::uint64_t(unconverged));
@@ -274,12 +297,15 @@ int run_bench(std::span<const std::string_view> args) {
             if (i + 1 >= args.size()) return bad_input("--json needs a path");
             json_path = std::string(args[++i]);
         } else if (a == "--preconditioner") {
-            deform::Preconditioner p;
-            if (i + 1 >= args.size() || !parse_preconditioner(args[++i], p)) {
+            const std::string_view name = i + 1 < args.size() ? args[++i] : std::string_view{};
+            const auto known =
+                std::find_if(std::begin(preconditioner_names), std::end(preconditioner_names),
+                             [&](const PreconditionerName& n) { return name == n.name; });
+            if (known == std::end(preconditioner_names)) {
                 return bad_input(
                     "--preconditioner: expected cholesky, incomplete_cholesky or jacobi");
             }
-            overrides.preconditioner = p;
+            overrides.preconditioner = known->value;
         } else if (a == "--workers") {
             if (i + 1 >= args.size()) return bad_input("--workers needs a count");
             try {
@@ -307,11 +333,7 @@ int run_bench(std::span<const std::string_view> args) {
         }
     }
     if (scenarios.empty()) return bad_input(usage);
-    std::unique_ptr<solver::ThreadPool> pool;
-    if (workers > 1) {
-        pool = std::make_unique<solver::ThreadPool>(static_cast<std::size_t>(workers));
-        overrides.pool = pool.get();
-    }
+    overrides.workers = static_cast<std::uint32_t>(workers);
 
     json::JsonWriter json;
     json.begin_object();

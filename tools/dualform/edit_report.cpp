@@ -1,5 +1,4 @@
 #include "dualform/edit_report.hpp"
-#include "dualform/edit_setup.hpp"
 
 namespace dfm::cli {
 
@@ -13,18 +12,6 @@ void write_quality(json::JsonWriter& json, const dfm_quality& q) {
     json.field("dual_magnitude_error", q.dual_magnitude_error);
     json.field("flipped_faces", q.flipped_faces);
     json.end_object();
-}
-
-void write_quality(json::JsonWriter& json, const deform::QualityReport& q) {
-    dfm_quality figures = {};
-    figures.max_handle_error = q.max_handle_error;
-    figures.mean_abs_log_edge = q.mean_abs_log_edge;
-    figures.max_abs_log_edge = q.max_abs_log_edge;
-    figures.mean_normal_change_deg = q.mean_normal_change_deg;
-    figures.max_fixed_move = q.max_fixed_move;
-    figures.dual_magnitude_error = q.dual_magnitude_error;
-    figures.flipped_faces = q.flipped_faces;
-    write_quality(json, figures);
 }
 
 }  // namespace dfm::cli

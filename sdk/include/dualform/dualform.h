@@ -405,15 +405,32 @@ typedef enum dfm_method {
     DFM_METHOD_PAPER = 2             /* Au et al.: l_f = -h_f n_f from each new dual 1-ring */
 } dfm_method;
 
+/* What preconditions the conjugate gradients of each linear solve. Fixed
+ * when the session is created. The result is the same to the solver's
+ * tolerance; the set-up and the cost of a solve differ. */
+typedef enum dfm_preconditioner {
+    DFM_PRECONDITIONER_DEFAULT = 0,             /* DFM_PRECONDITIONER_CHOLESKY */
+    DFM_PRECONDITIONER_CHOLESKY = 1,            /* an exact sparse factor: a slow set-up, a
+                                                   solve in one or two steps */
+    DFM_PRECONDITIONER_INCOMPLETE_CHOLESKY = 2, /* a factor without fill: quick to set up */
+    DFM_PRECONDITIONER_JACOBI = 3               /* the diagonal alone */
+} dfm_preconditioner;
+
 /* Zero means the default. Later settings take `reserved` words, which must
- * be zero (DFM_ERROR_UNSUPPORTED otherwise). */
+ * be zero (DFM_ERROR_UNSUPPORTED otherwise); the struct keeps its size. */
 typedef struct dfm_solver_settings {
-    double tolerance;        /* largest vertex update / diagonal that ends it; 1e-5 */
-    uint32_t max_iterations; /* 100 */
-    double handle_weight;    /* weight of the soft handle rows; 1 */
-    bool hard_handles;       /* handles met exactly instead of weighted */
-    dfm_method method;       /* DFM_METHOD_FITTED_ROTATIONS */
-    uint32_t reserved[7];    /* zero */
+    double tolerance;                  /* largest vertex update / diagonal that ends it; 1e-5 */
+    uint32_t max_iterations;           /* 100 */
+    double handle_weight;              /* weight of the soft handle rows; 1 */
+    bool hard_handles;                 /* handles met exactly instead of weighted */
+    dfm_method method;                 /* DFM_METHOD_FITTED_ROTATIONS */
+    dfm_preconditioner preconditioner; /* DFM_PRECONDITIONER_CHOLESKY */
+    /* Off (the default), a frame whose targets moved on from the last two
+     * solved frames starts from the extrapolation of their shapes; on, from
+     * the last shape. Either way it runs to the tolerance. Fixed when the
+     * session is created. */
+    bool disable_prediction;
+    uint32_t reserved[5]; /* zero */
 } dfm_solver_settings;
 
 /* A group of handle vertices that move together (one transform). */
@@ -477,9 +494,10 @@ DFM_API dfm_result dfm_session_set_targets(dfm_session* session, const dfm_vec3_
 /* Number of handle vertices (targets) of the session. */
 DFM_API dfm_result dfm_session_get_handle_count(const dfm_session* session, size_t* out);
 
-/* Changes the tolerance and iteration cap for later solves. handle_weight and
- * hard_handles are fixed at creation (a different value is
- * DFM_ERROR_UNSUPPORTED); zero fields keep their current values. */
+/* Changes the tolerance and iteration cap for later solves. handle_weight,
+ * hard_handles, preconditioner and disable_prediction are fixed at creation
+ * (a different value is DFM_ERROR_UNSUPPORTED); zero fields keep their
+ * current values. */
 DFM_API dfm_result dfm_session_set_solver(dfm_session* session,
                                           const dfm_solver_settings* settings);
 
@@ -652,6 +670,33 @@ typedef struct dfm_solve_report {
  * Thread safety as dfm_session_read_positions. */
 DFM_API dfm_result dfm_session_get_solve_report(dfm_session* session, dfm_solve_report* out,
                                                 dfm_frame_info* info);
+
+/* Where the set-up and the newest frame's solve spent their time, and how
+ * that frame started: what a benchmark reports beside dfm_solve_report. */
+typedef struct dfm_solve_details {
+    uint32_t struct_size; /* sizeof(dfm_solve_details); see the conventions */
+    /* dfm_solve_report.setup_ms in parts, ms */
+    double setup_rows_ms;     /* collecting the system's rows */
+    double setup_assembly_ms; /* assembling the normal matrix */
+    double setup_ordering_ms; /* the factor's fill-reducing ordering */
+    double setup_symbolic_ms; /* the factor's symbolic phase */
+    double setup_numeric_ms;  /* the factor's numeric phase */
+    /* dfm_frame_info.solve_ms in parts, ms summed over the frame's iterations */
+    double linear_solve_ms;    /* the linear solves */
+    double right_hand_side_ms; /* the right-hand sides */
+    double normals_ms;         /* the normals of the dual targets */
+    double anderson_ms;        /* the Anderson acceleration steps */
+    bool predicted;            /* the frame started from the extrapolation of the two
+                                  before it (dfm_solver_settings.disable_prediction) */
+} dfm_solve_details;
+
+/* Fills *out for the session's set-up and its newest frame; the caller sets
+ * out->struct_size, and the library writes only that many bytes (0 stands
+ * for the size the struct had when it appeared).
+ * `info` (may be NULL) says which frame. Thread safety as
+ * dfm_session_read_positions. */
+DFM_API dfm_result dfm_session_get_solve_details(dfm_session* session, dfm_solve_details* out,
+                                                 dfm_frame_info* info);
 
 /* A new mesh: `steps` (1 to 3) rounds of Loop subdivision of the mesh's
  * current rest pose. The coarse vertices keep their indices, so vertex
