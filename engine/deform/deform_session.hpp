@@ -75,7 +75,9 @@ struct SolveReport {
     bool linear_converged = false;
     double solve_ms = 0.0;
     // Where solve_ms went: the linear solves, the right-hand sides, the
-    // normals (dual targets) and the Anderson steps.
+    // normals (dual targets) and the Anderson steps. The default method fits
+    // its rotations in the pass that adds their rows to the right-hand side:
+    // that pass counts as normals, the handle rows as right-hand side.
     double linear_ms = 0.0;
     double rhs_ms = 0.0;
     double normals_ms = 0.0;
@@ -159,7 +161,7 @@ private:
     void verify_last_solve(SolveReport& report);
     // fitted_iteration.cpp
     Status solve_fitted(SolveReport& report, const Control* control);
-    double fit_and_prepare(std::span<const double> x, int rotation_steps);
+    double fit_and_prepare(std::span<const double> x, int rotation_steps, SolveReport& report);
     void align_to_handles();
 
     const MeshModel& model_;

@@ -25,11 +25,18 @@ double face_area(const mesh::Mesh& mesh, std::span<const glm::dvec3> p, std::uin
 
 constexpr int first_fit_steps = 32;
 
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
+}
+
 }  // namespace
 
 // Moves the unknowns to `x`, fits the rotations there, and prepares the
 // global step's right-hand side; returns the energy of `x`.
-double DeformSession::fit_and_prepare(std::span<const double> x, int rotation_steps) {
+double DeformSession::fit_and_prepare(std::span<const double> x, int rotation_steps,
+                                      SolveReport& report) {
+    auto phase = std::chrono::steady_clock::now();
     const mesh::Mesh& mesh = model_.mesh;
     for (std::size_t i = 0; i < unknowns_.count(); ++i) {
         positions_[unknowns_.vertex_of_unknown[i]] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
@@ -44,7 +51,11 @@ double DeformSession::fit_and_prepare(std::span<const double> x, int rotation_st
     }
     const double handles =
         write_handle_terms(x, soft_handles_, targets_, settings_.handle_weight, epsilon_, rhs_);
-    return handles + frames_.fit_and_add(positions_, height_scale_, rotation_steps, rhs_);
+    report.rhs_ms += ms_since(phase);
+    phase = std::chrono::steady_clock::now();
+    const double fitted = frames_.fit_and_add(positions_, height_scale_, rotation_steps, rhs_);
+    report.normals_ms += ms_since(phase);
+    return handles + fitted;
 }
 
 // With nothing outside the handles to pin it, the ROI floats: its rotation
@@ -92,7 +103,7 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
     // alignment): its first fit runs to convergence. Between iterates the
     // rotations move little, and one Newton step from the last fit is exact
     // to second order (more steps did not cut the iterations).
-    double energy = fit_and_prepare(current_, first_fit_steps);
+    double energy = fit_and_prepare(current_, first_fit_steps, report);
     frames_.keep_fit();
     report.energy = energy;
     std::copy(current_.begin(), current_.end(), x_.begin());
@@ -103,12 +114,14 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
             return Status::ok();
         }
         std::size_t krylov = 0;
+        auto phase = std::chrono::steady_clock::now();
         if (Status s = linear_.solve(rhs_, x_, settings_.linear_tolerance * diag,
                                      LinearSolver::Accuracy::one_step, krylov);
             !s) {
             report.solve_ms = elapsed_ms();
             return s;
         }
+        report.linear_ms += ms_since(phase);
         report.krylov_iterations += krylov;
         double largest = 0.0;
         for (std::size_t i = 0; i < unknowns_.count(); ++i) {
@@ -135,8 +148,10 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
             store_solution();
             break;
         }
+        phase = std::chrono::steady_clock::now();
         anderson_.step(current_, x_, next_);
-        const double trial = fit_and_prepare(next_, 1);
+        report.anderson_ms += ms_since(phase);
+        const double trial = fit_and_prepare(next_, 1, report);
         if (trial <= energy) {
             energy = trial;
             frames_.keep_fit();
@@ -145,7 +160,7 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
             // The plain step: the global step did not raise the energy with
             // the old rotations, and refitting them from there lowers it.
             ++report.rejected_steps;
-            energy = fit_and_prepare(x_, 1);
+            energy = fit_and_prepare(x_, 1, report);
             frames_.keep_fit();
             std::copy(x_.begin(), x_.end(), current_.begin());
         }

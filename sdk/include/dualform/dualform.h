@@ -684,7 +684,8 @@ typedef struct dfm_solve_details {
     /* dfm_frame_info.solve_ms in parts, ms summed over the frame's iterations */
     double linear_solve_ms;    /* the linear solves */
     double right_hand_side_ms; /* the right-hand sides */
-    double normals_ms;         /* the normals of the dual targets */
+    double normals_ms;         /* the dual targets: normals (paper), or the rotation fit with
+                                  its rows of the right-hand side (fitted rotations) */
     double anderson_ms;        /* the Anderson acceleration steps */
     bool predicted;            /* the frame started from the extrapolation of the two
                                   before it (dfm_solver_settings.disable_prediction) */
