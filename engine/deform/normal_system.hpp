@@ -4,6 +4,7 @@
 #include <span>
 #include <vector>
 
+#include "core/memory_bytes.hpp"
 #include "deform/mesh_model.hpp"
 #include "solver/csr_matrix.hpp"
 
@@ -31,6 +32,10 @@ struct SystemRows {
     std::vector<RowEntry> entries;
     // Faces whose centroids the rows read: the rows' faces and their 1-rings.
     std::vector<std::uint32_t> centroid_faces;
+
+    std::size_t memory_bytes() const {
+        return capacity_bytes(faces, entry_offsets, entries, centroid_faces);
+    }
 
     std::size_t size() const { return faces.size(); }
 };

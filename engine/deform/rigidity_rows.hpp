@@ -7,6 +7,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "core/memory_bytes.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
 
@@ -47,6 +48,10 @@ public:
     void recall() { rotations_ = saved_; }
 
     std::size_t dual_rows() const { return rest_dual_.size(); }
+    std::size_t memory_bytes() const {
+        return capacity_bytes(faces_, rest_dual_, rigid_offsets_, rest_vectors_, rotations_,
+                              saved_);
+    }
 
 private:
     static constexpr std::size_t max_rigidity_rows = 6;  // per dual row: 3 dual, 3 face edges
