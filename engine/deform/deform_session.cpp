@@ -131,7 +131,7 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         phase = std::chrono::steady_clock::now();
         solver::CsrMatrix normal =
             assemble_normal_matrix(s->rows_, u.count(), s->soft_handles_, settings.handle_weight,
-                                   settings.regularization, s->epsilon_);
+                                   settings.regularization, s->epsilon_, stop);
         s->setup_.assembly_ms = elapsed_ms(phase);
         const std::size_t normal_nonzeros = normal.nonzeros();
         if (stopped()) return cancelled;

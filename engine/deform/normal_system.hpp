@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -46,10 +47,11 @@ SystemRows collect_rows(const MeshModel& model, const UnknownMap& unknowns);
 // unknowns tied to targets with weight `handle_weight`. ε is
 // `relative_epsilon` times the mean diagonal of AᵀA + w² H, returned in
 // `epsilon`: it ties the part of the solution that D cannot see (the
-// three-colour pattern of docs/design.md) to the previous iterate.
+// three-colour pattern of docs/design.md) to the previous iterate. Once
+// `stop` (optional) is true it returns an empty matrix part way.
 solver::CsrMatrix assemble_normal_matrix(const SystemRows& rows, std::size_t unknown_count,
                                          std::span<const std::uint32_t> soft_handles,
                                          double handle_weight, double relative_epsilon,
-                                         double& epsilon);
+                                         double& epsilon, const std::atomic<bool>* stop = nullptr);
 
 }  // namespace dfm::deform
