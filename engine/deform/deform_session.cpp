@@ -123,6 +123,7 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         }
         auto phase = std::chrono::steady_clock::now();
         s->rows_ = collect_rows(model, u);
+        if (stopped()) return cancelled;
         if (settings.method == DeformMethod::fitted_rotations) {
             s->frames_.build(model, u, settings.rigidity_weight, s->rows_);
         }
