@@ -14,6 +14,7 @@ const char* errc_name(Errc code) {
         case Errc::out_of_memory: return "out of memory";
         case Errc::numerical: return "numerical failure";
         case Errc::internal: return "internal error";
+        case Errc::cancelled: return "cancelled";
     }
     return "unknown error";
 }

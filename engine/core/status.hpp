@@ -16,7 +16,8 @@ enum class Errc {
     unsupported,
     out_of_memory,
     numerical,
-    internal,  // a defect of Dualform's, not of the caller's input
+    internal,   // a defect of Dualform's, not of the caller's input
+    cancelled,  // stopped by the caller's stop flag before it finished
 };
 
 const char* errc_name(Errc code);

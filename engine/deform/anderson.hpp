@@ -4,6 +4,8 @@
 #include <span>
 #include <vector>
 
+#include "core/memory_bytes.hpp"
+
 namespace dfm::deform {
 
 // Anderson acceleration of a fixed-point iteration x <- G(x) (type II, the
@@ -31,6 +33,11 @@ public:
     // Given x and g = G(x), writes the next iterate into `next`. The first
     // step after a restart is the plain one, next = g.
     void step(std::span<const double> x, std::span<const double> g, std::span<double> next);
+
+    std::size_t memory_bytes() const {
+        return capacity_bytes(previous_f_, previous_g_, delta_f_, delta_g_, f_, products_, gram_,
+                              gamma_);
+    }
 
 private:
     std::size_t size_ = 0;

@@ -13,6 +13,8 @@
 #include <sched.h>
 #endif
 
+#include "core/memory_bytes.hpp"
+
 namespace dfm::deform {
 
 namespace {
@@ -64,6 +66,7 @@ Status AsyncSession::create(const MeshModel& model, std::span<const std::uint32_
         s->newest_generation_ = start.first_generation;
         s->newest_finished_ = start.first_generation;
         s->on_frame_ = std::move(start.on_frame);
+        s->record_memory();
         s->worker_ = std::thread([raw = s.get()] { raw->run_worker(); });
         out = std::move(s);
         return Status::ok();
@@ -82,6 +85,7 @@ AsyncSession::~AsyncSession() {
         has_queued_ = false;
         cancelled_through_ = next_generation_ - 1;
         interrupt_.store(true, std::memory_order_release);
+        stop_setup_.store(true, std::memory_order_relaxed);
     }
     work_ready_.notify_all();
     if (worker_.joinable()) worker_.join();
@@ -202,6 +206,21 @@ SetupReport AsyncSession::setup_report() const {
     return setup_report_;
 }
 
+SessionMemory AsyncSession::memory() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return memory_;
+}
+
+void AsyncSession::record_memory() {
+    SessionMemory m = session_ ? session_->memory() : SessionMemory{};
+    m.frames = normals_.memory_bytes();
+    for (const Frame& f : frames_)
+        m.frames += capacity_bytes(f.positions, f.normals, f.positions_f32, f.normals_f32);
+    std::lock_guard<std::mutex> lock(mutex_);
+    m.staging = capacity_bytes(moving_, handle_vertices_, queued_targets_, worker_targets_);
+    memory_ = m;
+}
+
 bool AsyncSession::set_up() {
     Status built;
     std::unique_ptr<DeformSession> session;
@@ -210,7 +229,8 @@ bool AsyncSession::set_up() {
         normals_built_ = true;
         // Only the start frame can be read while the set-up runs.
         for (int slot = 0; slot < start_slot; ++slot) size_frame(frames_[slot]);
-        built = setup_(session);
+        record_memory();
+        built = setup_(session, &stop_setup_);
         if (built && !session) built = Status(Errc::internal, "the set-up made no session");
     } catch (const std::bad_alloc&) {
         built = Status(Errc::out_of_memory, "out of memory while setting up the edit");
@@ -366,6 +386,7 @@ void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, 
     // Already sized by the set-up (no allocation) unless it ran out of memory.
     size_frame(frame);
     write_frame(frame, generation, report, status, partial, preparing);
+    record_memory();
     {
         std::lock_guard<std::mutex> lock(mutex_);
         front_ = slot;

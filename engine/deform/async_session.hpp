@@ -65,8 +65,11 @@ std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
 class AsyncSession {
 public:
     // Builds the session on the worker; what it throws is reported as the
-    // set-up's failure.
-    using Setup = std::function<Status(std::unique_ptr<DeformSession>&)>;
+    // set-up's failure. `stop` turns true when the AsyncSession is
+    // destroyed: handed on to DeformSession::create, it ends the set-up
+    // part way (Errc::cancelled, published as the set-up's frame).
+    using Setup =
+        std::function<Status(std::unique_ptr<DeformSession>&, const std::atomic<bool>* stop)>;
     // Called on the publishing thread (the worker, or solve_now's caller)
     // after each frame is published, with no lock held.
     using FrameHook = std::function<void(const Frame&)>;
@@ -85,8 +88,8 @@ public:
     static Status create(const MeshModel& model, std::span<const std::uint32_t> roi,
                          std::span<const std::uint32_t> handle_vertices, Setup setup, Start start,
                          std::unique_ptr<AsyncSession>& out);
-    // Stops the worker after the iteration in progress (or after the set-up,
-    // which cannot be stopped part way) and joins it.
+    // Stops the worker after the iteration in progress, or the set-up
+    // through Setup's stop flag, and joins it.
     ~AsyncSession();
     AsyncSession(const AsyncSession&) = delete;
     AsyncSession& operator=(const AsyncSession&) = delete;
@@ -187,6 +190,12 @@ public:
     // (zeros while it prepares or when it failed).
     SetupReport setup_report() const;
 
+    // The bytes the session holds, as the publishing thread measured them
+    // with the last frame (and as the set-up began): reading them never
+    // waits for a solve. While the set-up runs, factor, system and
+    // iteration are 0: the DeformSession does not exist yet.
+    SessionMemory memory() const;
+
 private:
     explicit AsyncSession(const MeshModel& model) : model_(model) {}
     void run_worker();
@@ -212,6 +221,9 @@ private:
     void publish_failure(std::uint64_t generation, Errc status);
     // Waits until the set-up has ended; false when it failed.
     bool wait_until_set_up();
+    // Measures the session's and the frames' bytes into memory_ (the
+    // publishing thread's, which alone resizes them).
+    void record_memory();
 
     const MeshModel& model_;
     Setup setup_;  // the worker's until it has run
@@ -246,7 +258,9 @@ private:
     int reading_ = -1;
     int held_ = -1;
     std::array<Frame, 6> frames_;
-    SetupReport setup_report_;  // under mutex_; filled when the set-up succeeds
+    SetupReport setup_report_;             // under mutex_; filled when the set-up succeeds
+    SessionMemory memory_;                 // under mutex_
+    std::atomic<bool> stop_setup_{false};  // set by the destructor
 
     // Held by whoever runs the DeformSession: the worker or solve_now.
     std::mutex solve_mutex_;

@@ -9,6 +9,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/memory_bytes.hpp"
+
 namespace dfm::deform {
 
 namespace {
@@ -31,8 +33,13 @@ const char* method_name(DeformMethod m) {
 
 Status DeformSession::create(const MeshModel& model, std::span<const std::uint32_t> roi,
                              std::span<const std::vector<std::uint32_t>> handle_groups,
-                             const DeformSettings& settings, std::unique_ptr<DeformSession>& out) {
+                             const DeformSettings& settings, std::unique_ptr<DeformSession>& out,
+                             const std::atomic<bool>* stop) {
     out.reset();
+    const auto stopped = [stop] {
+        return stop != nullptr && stop->load(std::memory_order_relaxed);
+    };
+    const Status cancelled(Errc::cancelled, "the set-up of the edit was stopped");
     const auto start = std::chrono::steady_clock::now();
     const std::size_t n = model.mesh.vertex_count();
     if (!(settings.tolerance > 0.0) || settings.max_iterations < 1 ||
@@ -116,17 +123,21 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         }
         auto phase = std::chrono::steady_clock::now();
         s->rows_ = collect_rows(model, u);
+        if (stopped()) return cancelled;
         if (settings.method == DeformMethod::fitted_rotations) {
             s->frames_.build(model, u, settings.rigidity_weight, s->rows_);
         }
         s->setup_.rows_ms = elapsed_ms(phase);
+        if (stopped()) return cancelled;
         phase = std::chrono::steady_clock::now();
         solver::CsrMatrix normal =
             assemble_normal_matrix(s->rows_, u.count(), s->soft_handles_, settings.handle_weight,
-                                   settings.regularization, s->epsilon_);
+                                   settings.regularization, s->epsilon_, stop);
         s->setup_.assembly_ms = elapsed_ms(phase);
         const std::size_t normal_nonzeros = normal.nonzeros();
-        if (Status st = s->linear_.setup(std::move(normal), settings.preconditioner, settings.pool);
+        if (stopped()) return cancelled;
+        if (Status st =
+                s->linear_.setup(std::move(normal), settings.preconditioner, settings.pool, stop);
             !st) {
             return st;
         }
@@ -163,6 +174,19 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
     } catch (const std::bad_alloc&) {
         return Status(Errc::out_of_memory, "out of memory while setting up the edit");
     }
+}
+
+SessionMemory DeformSession::memory() const {
+    const LinearSolver::Memory linear = linear_.memory();
+    SessionMemory m;
+    m.factor = linear.preconditioner;
+    m.system = linear.matrix + rows_.memory_bytes() + frames_.memory_bytes() +
+               capacity_bytes(unknowns_.unknown_of_vertex, unknowns_.vertex_of_unknown,
+                              handle_vertices_, soft_handles_, height_scale_);
+    m.iteration =
+        linear.workspace + anderson_.memory_bytes() + predictor_.memory_bytes() +
+        capacity_bytes(targets_, positions_, centroids_, dual_targets_, rhs_, x_, current_, next_);
+    return m;
 }
 
 Status DeformSession::set_targets(std::span<const glm::dvec3> targets) {

@@ -107,6 +107,17 @@ struct SetupReport {
     double numeric_ms = 0.0;
 };
 
+// Bytes an edit holds, by part (capacities of its arrays).
+struct SessionMemory {
+    std::size_t factor = 0;  // the preconditioner: the complete factor's values, indices, analysis
+    std::size_t system = 0;  // N, the rows it is built from, the rigidity rows, the unknowns
+    // The iteration's vectors: positions, targets, right-hand sides,
+    // Anderson's history, the frame prediction, the Krylov workspace.
+    std::size_t iteration = 0;
+    std::size_t frames = 0;   // the published frames and their normals (AsyncSession)
+    std::size_t staging = 0;  // targets queued and being solved, the ROI (AsyncSession)
+};
+
 // One edit of one ROI with fixed handle groups: the system is assembled and
 // factored once, then solved as often as the targets change. Vertices outside
 // the ROI, and ROI vertices with a neighbour outside it that are not handles,
@@ -115,10 +126,14 @@ class DeformSession {
 public:
     // `roi` and every handle group hold vertex indices of model.mesh; handle
     // vertices must lie in the ROI, each in one group only. The edit starts
-    // from the rest pose. `model` must outlive the session.
+    // from the rest pose. `model` must outlive the session. `stop`
+    // (optional) is looked at between the set-up's phases and inside the
+    // factorization: once it is true, create fails with Errc::cancelled
+    // within a supernode's work.
     static Status create(const MeshModel& model, std::span<const std::uint32_t> roi,
                          std::span<const std::vector<std::uint32_t>> handle_groups,
-                         const DeformSettings& settings, std::unique_ptr<DeformSession>& out);
+                         const DeformSettings& settings, std::unique_ptr<DeformSession>& out,
+                         const std::atomic<bool>* stop = nullptr);
 
     // Targets, one per handle vertex, in group order. Non-finite targets are
     // refused and leave the previous ones in place.
@@ -150,6 +165,8 @@ public:
     std::span<const glm::dvec3> targets() const { return targets_; }
     const UnknownMap& unknowns() const { return unknowns_; }
     const SetupReport& setup_report() const { return setup_; }
+    // factor, system and iteration; not thread-safe against a solve.
+    SessionMemory memory() const;
     const MeshModel& model() const { return model_; }
 
 private:

@@ -6,6 +6,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/memory_bytes.hpp"
+
 namespace dfm::deform {
 
 // Predicts where the next frame of a drag converges from the two frames
@@ -32,6 +34,10 @@ public:
     // true, or leaves `start` alone and returns false when fewer than two
     // frames are known or the last target step was zero.
     bool predict(std::span<const glm::dvec3> targets, std::span<double> start) const;
+
+    std::size_t memory_bytes() const {
+        return capacity_bytes(last_, before_, last_targets_, before_targets_);
+    }
 
 private:
     std::size_t frames_ = 0;  // recorded since the last forget, at most 2 used

@@ -25,17 +25,28 @@ LinearSolver::LinearSolver(LinearSolver&&) noexcept = default;
 LinearSolver& LinearSolver::operator=(LinearSolver&&) noexcept = default;
 
 Status LinearSolver::setup(solver::CsrMatrix matrix, solver::PreconditionerKind preconditioner,
-                           solver::ThreadPool* pool) {
+                           solver::ThreadPool* pool, const std::atomic<bool>* stop) {
     auto state = std::make_unique<State>();
     state->matrix = std::move(matrix);
     state->preconditioner = solver::make_preconditioner(preconditioner, pool);
+    if (auto* cholesky = dynamic_cast<solver::CholeskyPreconditioner*>(state->preconditioner.get()))
+        cholesky->set_stop(stop);
     if (Status s = state->preconditioner->setup(state->matrix); !s) return s;
     state->preconditioner->reserve(3);
     state->workspace = solver::PbcgWorkspace(state->matrix.rows, 3);
     state->result.columns.resize(3);
     state->exact = state->preconditioner->is_exact();
+    if (auto* cholesky = dynamic_cast<solver::CholeskyPreconditioner*>(state->preconditioner.get()))
+        cholesky->set_stop(nullptr);
     state_ = std::move(state);
     return Status::ok();
+}
+
+LinearSolver::Memory LinearSolver::memory() const {
+    if (!state_) return {};
+    return {.preconditioner = state_->preconditioner->memory_bytes(),
+            .matrix = state_->matrix.memory_bytes(),
+            .workspace = state_->workspace.memory_bytes()};
 }
 
 Status LinearSolver::solve(std::span<const double> rhs, std::span<double> x, double tolerance,

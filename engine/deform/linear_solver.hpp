@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -23,9 +24,11 @@ public:
     LinearSolver& operator=(LinearSolver&&) noexcept;
 
     // `pool` (optional, not owned, outliving the solver) spreads the factor's
-    // work; results are bit-identical whatever its thread count.
+    // work; results are bit-identical whatever its thread count. `stop`
+    // (optional) stops the complete factor's set-up part way
+    // (solver::SparseCholesky::set_stop): Errc::cancelled.
     Status setup(solver::CsrMatrix matrix, solver::PreconditionerKind preconditioner,
-                 solver::ThreadPool* pool = nullptr);
+                 solver::ThreadPool* pool = nullptr, const std::atomic<bool>* stop = nullptr);
 
     enum class Accuracy {
         // Inside the outer iteration: with the complete factor, one step
@@ -52,6 +55,14 @@ public:
     // The phases of the complete factor's set-up (zero for the other
     // preconditioners).
     solver::CholeskyTimes factor_times() const;
+
+    // Bytes held, by part; zeros before a setup has succeeded.
+    struct Memory {
+        std::size_t preconditioner = 0;  // the factor (L values, indices, analysis)
+        std::size_t matrix = 0;          // N
+        std::size_t workspace = 0;       // the Krylov iteration's vectors
+    };
+    Memory memory() const;
 
 private:
     struct State;

@@ -1,11 +1,22 @@
 #include "deform/mesh_model.hpp"
 
+#include "core/memory_bytes.hpp"
+
 #include <cmath>
 #include <new>
 #include <numeric>
 #include <string>
 
 namespace dfm::deform {
+
+MeshModel::Memory MeshModel::memory() const {
+    return {.mesh = capacity_bytes(mesh.positions, mesh.triangles),
+            .adjacency = capacity_bytes(
+                topology.edges, topology.face_counts, topology.face_neighbors,
+                topology.boundary_edges, topology.non_manifold_edges, vertex_neighbors.offsets,
+                vertex_neighbors.neighbors, vertex_face_offsets, vertex_faces),
+            .dual = capacity_bytes(dual.neighbors, dual.weights, dual.heights, dual.has_row)};
+}
 
 MeshModel build_mesh_model(mesh::Mesh m) {
     MeshModel model;

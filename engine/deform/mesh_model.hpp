@@ -24,6 +24,14 @@ struct MeshModel {
     std::vector<std::uint32_t> vertex_faces;
     double diagonal = 0.0;
 
+    // Bytes held, by part (capacities of the arrays).
+    struct Memory {
+        std::size_t mesh = 0;       // positions and triangles
+        std::size_t adjacency = 0;  // edges, face and vertex neighbours, vertex faces
+        std::size_t dual = 0;       // the dual Laplacian's weights, heights and rows
+    };
+    Memory memory() const;
+
     std::span<const std::uint32_t> faces_of(std::uint32_t v) const {
         return std::span(vertex_faces)
             .subspan(vertex_face_offsets[v], vertex_face_offsets[v + 1] - vertex_face_offsets[v]);

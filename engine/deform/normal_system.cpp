@@ -11,8 +11,7 @@ namespace {
 // vertices and its neighbours'. The others' rows are never computed, so
 // that a small ROI's set-up does not cost a pass of dual_row over the
 // whole mesh.
-std::vector<std::uint8_t> faces_near_unknowns(const MeshModel& model,
-                                              const UnknownMap& unknowns) {
+std::vector<std::uint8_t> faces_near_unknowns(const MeshModel& model, const UnknownMap& unknowns) {
     const mesh::Mesh& mesh = model.mesh;
     std::vector<std::uint8_t> holds(mesh.face_count(), 0);
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f)
@@ -60,7 +59,7 @@ SystemRows collect_rows(const MeshModel& model, const UnknownMap& unknowns) {
 solver::CsrMatrix assemble_normal_matrix(const SystemRows& rows, std::size_t unknown_count,
                                          std::span<const std::uint32_t> soft_handles,
                                          double handle_weight, double relative_epsilon,
-                                         double& epsilon) {
+                                         double& epsilon, const std::atomic<bool>* stop) {
     // Rows touching each unknown, CSR.
     std::vector<std::uint32_t> offsets(unknown_count + 1, 0);
     for (const RowEntry& e : rows.entries) {
@@ -102,6 +101,9 @@ solver::CsrMatrix assemble_normal_matrix(const SystemRows& rows, std::size_t unk
     std::vector<double> vals;
     std::vector<std::uint32_t> order;
     for (std::uint32_t i = 0; i < unknown_count; ++i) {
+        // A few hundred rows take well under a millisecond.
+        if (stop != nullptr && i % 256 == 0 && stop->load(std::memory_order_relaxed))
+            return solver::CsrMatrix{};
         cols.clear();
         vals.clear();
         auto add = [&](std::uint32_t j, double v) {

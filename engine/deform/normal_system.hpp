@@ -1,9 +1,11 @@
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "core/memory_bytes.hpp"
 #include "deform/mesh_model.hpp"
 #include "solver/csr_matrix.hpp"
 
@@ -32,6 +34,10 @@ struct SystemRows {
     // Faces whose centroids the rows read: the rows' faces and their 1-rings.
     std::vector<std::uint32_t> centroid_faces;
 
+    std::size_t memory_bytes() const {
+        return capacity_bytes(faces, entry_offsets, entries, centroid_faces);
+    }
+
     std::size_t size() const { return faces.size(); }
 };
 
@@ -41,10 +47,11 @@ SystemRows collect_rows(const MeshModel& model, const UnknownMap& unknowns);
 // unknowns tied to targets with weight `handle_weight`. ε is
 // `relative_epsilon` times the mean diagonal of AᵀA + w² H, returned in
 // `epsilon`: it ties the part of the solution that D cannot see (the
-// three-colour pattern of docs/design.md) to the previous iterate.
+// three-colour pattern of docs/design.md) to the previous iterate. Once
+// `stop` (optional) is true it returns an empty matrix part way.
 solver::CsrMatrix assemble_normal_matrix(const SystemRows& rows, std::size_t unknown_count,
                                          std::span<const std::uint32_t> soft_handles,
                                          double handle_weight, double relative_epsilon,
-                                         double& epsilon);
+                                         double& epsilon, const std::atomic<bool>* stop = nullptr);
 
 }  // namespace dfm::deform

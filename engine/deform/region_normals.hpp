@@ -6,6 +6,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/memory_bytes.hpp"
 #include "deform/mesh_model.hpp"
 
 namespace dfm::deform {
@@ -24,6 +25,10 @@ public:
 
     // One normal per entry of vertices(), from `positions` (the whole mesh).
     void compute(std::span<const glm::dvec3> positions, std::span<glm::dvec3> normals) const;
+
+    std::size_t memory_bytes() const {
+        return capacity_bytes(faces_, vertices_, slot_of_vertex_, rest_sum_);
+    }
 
 private:
     const MeshModel* model_ = nullptr;

@@ -7,6 +7,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "core/memory_bytes.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
 
@@ -68,6 +69,7 @@ public:
     void keep_fit() { kept_.swap(fitted_); }
 
     std::size_t dual_rows() const { return stencils_.size(); }
+    std::size_t memory_bytes() const { return capacity_bytes(stencils_, fixed_, kept_, fitted_); }
 
 private:
     // −(Aᵀ A)_uv between an unknown u and a fixed vertex v: the fixed

@@ -1,5 +1,7 @@
 #include "solver/preconditioner.hpp"
 
+#include "core/memory_bytes.hpp"
+
 namespace dfm::solver {
 
 CholeskyPreconditioner::CholeskyPreconditioner(OrderingMethod ordering, ThreadPool* pool)
@@ -7,6 +9,10 @@ CholeskyPreconditioner::CholeskyPreconditioner(OrderingMethod ordering, ThreadPo
 
 Status CholeskyPreconditioner::setup(const CsrMatrix& a) {
     return cholesky_.compute(a, ordering_, pool_);
+}
+
+std::size_t CholeskyPreconditioner::memory_bytes() const {
+    return cholesky_.memory_bytes() + capacity_bytes(work_);
 }
 
 void CholeskyPreconditioner::reserve(std::size_t k) {

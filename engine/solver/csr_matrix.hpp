@@ -5,6 +5,8 @@
 #include <span>
 #include <vector>
 
+#include "core/memory_bytes.hpp"
+
 namespace dfm::solver {
 
 // A sparse matrix in compressed sparse row form: the entries of row i are
@@ -16,6 +18,8 @@ struct CsrMatrix {
     std::vector<std::size_t> row_offsets;
     std::vector<std::uint32_t> col_indices;
     std::vector<double> values;
+
+    std::size_t memory_bytes() const { return capacity_bytes(row_offsets, col_indices, values); }
 
     std::size_t nonzeros() const { return values.size(); }
 

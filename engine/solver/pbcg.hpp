@@ -4,6 +4,7 @@
 #include <span>
 #include <vector>
 
+#include "core/memory_bytes.hpp"
 #include "core/status.hpp"
 #include "solver/csr_matrix.hpp"
 #include "solver/preconditioner.hpp"
@@ -63,6 +64,10 @@ public:
     std::size_t size() const { return n_; }
     std::size_t columns() const { return k_; }
     bool general() const { return general_; }
+    std::size_t memory_bytes() const {
+        return capacity_bytes(r_, z_, p_, q_, shadow_r_, shadow_z_, shadow_p_, shadow_q_, partial_,
+                              rho_, rho_old_, pq_, error_, b_norm_, best_, stalled_, active_);
+    }
 
 private:
     friend Status pbcg_solve(const CsrMatrix&, Preconditioner&, std::span<const double>,

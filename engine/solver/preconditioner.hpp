@@ -1,10 +1,12 @@
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <memory>
 #include <span>
 #include <vector>
 
+#include "core/memory_bytes.hpp"
 #include "core/status.hpp"
 #include "solver/csr_matrix.hpp"
 #include "solver/ordering.hpp"
@@ -48,6 +50,9 @@ public:
     // True when M equals A up to rounding (a complete factorization): its
     // error estimate then stops improving only at the rounding floor.
     virtual bool is_exact() const { return false; }
+
+    // Bytes M holds (capacities of its arrays, scratch included).
+    virtual std::size_t memory_bytes() const = 0;
 };
 
 // M = diag(A). The baseline: cheap, and weak on bi-Laplacian-like systems.
@@ -58,6 +63,7 @@ public:
     void apply(std::span<const double> r, std::span<double> z, std::size_t k) override;
     const char* name() const override { return "jacobi"; }
     std::size_t size() const override { return inverse_diagonal_.size(); }
+    std::size_t memory_bytes() const override { return capacity_bytes(inverse_diagonal_); }
 
 private:
     std::vector<double> inverse_diagonal_;
@@ -75,6 +81,7 @@ public:
     void apply(std::span<const double> r, std::span<double> z, std::size_t k) override;
     const char* name() const override { return "incomplete cholesky"; }
     std::size_t size() const override { return factor_.rows; }
+    std::size_t memory_bytes() const override { return factor_.memory_bytes(); }
 
     // The α of the last successful setup (0 when none was needed).
     double shift() const { return shift_; }
@@ -106,6 +113,9 @@ public:
     bool is_exact() const override { return true; }
 
     const SparseCholesky& factor() const { return cholesky_; }
+    // SparseCholesky::set_stop for the factorizations of later setups.
+    void set_stop(const std::atomic<bool>* stop) { cholesky_.set_stop(stop); }
+    std::size_t memory_bytes() const override;
 
 private:
     OrderingMethod ordering_;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <string>
 
+#include "core/memory_bytes.hpp"
 #include "solver/cholesky_schedule.hpp"
 #include "solver/dense_kernels.hpp"
 #include "solver/elimination_tree.hpp"
@@ -183,11 +184,17 @@ struct FirstFailure {
     }
 };
 
-// Every supernode on the calling thread, in order, up to the first failure.
+bool raised(const std::atomic<bool>* stop) {
+    return stop != nullptr && stop->load(std::memory_order_relaxed);
+}
+
+// Every supernode on the calling thread, in order, up to the first failure
+// or the stop flag.
 void factor_in_order(const CholeskySymbolic& sym, std::span<const double> a_values,
-                     std::span<double> l_values, CholeskyScratch& scratch, FirstFailure& failure) {
+                     std::span<double> l_values, CholeskyScratch& scratch, FirstFailure& failure,
+                     const std::atomic<bool>* stop) {
     const auto s_count = static_cast<std::uint32_t>(sym.supernode_count());
-    for (std::uint32_t s = 0; s < s_count && failure.column == no_failure; ++s)
+    for (std::uint32_t s = 0; s < s_count && failure.column == no_failure && !raised(stop); ++s)
         failure.record(s, factor_supernode(sym, a_values, l_values, s, scratch));
 }
 
@@ -195,12 +202,14 @@ void factor_in_order(const CholeskySymbolic& sym, std::span<const double> a_valu
 // subtree at its first failure.
 void factor_subtrees(const CholeskySymbolic& sym, const CholeskySchedule& schedule,
                      std::span<const double> a_values, std::span<double> l_values,
-                     std::span<CholeskyScratch> scratch, ThreadPool& pool, FirstFailure& failure) {
+                     std::span<CholeskyScratch> scratch, ThreadPool& pool, FirstFailure& failure,
+                     const std::atomic<bool>* stop) {
     const std::size_t threads = pool.thread_count();
     std::vector<FirstFailure> failures(threads);
     pool.run(threads, [&](std::size_t t) {
         for (const std::uint32_t root : schedule.subtrees[t]) {
             for (std::uint32_t s = sym.subtree_begin[root]; s <= root; ++s) {
+                if (raised(stop)) return;
                 const std::uint32_t column =
                     factor_supernode(sym, a_values, l_values, s, scratch[t]);
                 if (column == no_failure) continue;
@@ -216,9 +225,10 @@ void factor_subtrees(const CholeskySymbolic& sym, const CholeskySchedule& schedu
 // between the threads; none after the first failure so far.
 void factor_top(const CholeskySymbolic& sym, const CholeskySchedule& schedule,
                 std::span<const double> a_values, std::span<double> l_values,
-                std::span<CholeskyScratch> scratch, ThreadPool& pool, FirstFailure& failure) {
+                std::span<CholeskyScratch> scratch, ThreadPool& pool, FirstFailure& failure,
+                const std::atomic<bool>* stop) {
     for (const std::uint32_t s : schedule.top) {
-        if (s > failure.supernode) break;
+        if (s > failure.supernode || raised(stop)) break;
         const std::uint32_t column =
             sym.work[s] >= split_work
                 ? factor_supernode_split(sym, a_values, l_values, s, scratch, pool)
@@ -235,15 +245,45 @@ void factor_top(const CholeskySymbolic& sym, const CholeskySchedule& schedule,
 CholeskyScratch::CholeskyScratch(const CholeskySymbolic& sym)
     : position(sym.n), relative(sym.max_rows), block(sym.max_update_size) {}
 
+namespace {
+
+Status stopped_status() {
+    return {Errc::cancelled, "Cholesky: stopped by the stop flag"};
+}
+
+}  // namespace
+
+bool SparseCholesky::stop_requested() {
+    if (raised(stop_)) stopped_ = true;
+    return stopped_;
+}
+
+std::size_t SparseCholesky::memory_bytes() const {
+    const CholeskySymbolic& s = symbolic_;
+    std::size_t bytes = capacity_bytes(
+        s.perm, s.inverse, s.column_begin, s.parent, s.row_begin, s.rows, s.value_begin,
+        s.update_begin, s.updates, s.entry_begin, s.entry_source, s.entry_target, s.subtree_begin,
+        s.work, s.pattern_row_offsets, s.pattern_col_indices);
+    bytes += capacity_bytes(schedule_.subtrees, schedule_.top, values_, scratch_);
+    for (const std::vector<std::uint32_t>& roots : schedule_.subtrees)
+        bytes += capacity_bytes(roots);
+    for (const CholeskyScratch& t : scratch_)
+        bytes += capacity_bytes(t.position, t.relative, t.block);
+    return bytes;
+}
+
 Status SparseCholesky::analyze(const CsrMatrix& a, OrderingMethod method) {
     factored_ = false;
+    stopped_ = false;
     values_.clear();
     schedule_ = CholeskySchedule{};
     times_ = CholeskyTimes{};
     if (a.rows != a.cols) return analyze_cholesky(a, std::span<const std::uint32_t>{}, symbolic_);
+    if (stop_requested()) return stopped_status();
     const auto start = std::chrono::steady_clock::now();
     const std::vector<std::uint32_t> perm = fill_reducing_ordering(a, method);
     times_.ordering_ms = ms_since(start);
+    if (stop_requested()) return stopped_status();
     const auto symbolic_start = std::chrono::steady_clock::now();
     Status st = analyze_cholesky(a, perm, symbolic_);
     times_.symbolic_ms = ms_since(symbolic_start);
@@ -252,6 +292,7 @@ Status SparseCholesky::analyze(const CsrMatrix& a, OrderingMethod method) {
 
 Status SparseCholesky::analyze(const CsrMatrix& a, std::span<const std::uint32_t> perm) {
     factored_ = false;
+    stopped_ = false;
     values_.clear();
     schedule_ = CholeskySchedule{};
     times_ = CholeskyTimes{};
@@ -270,9 +311,11 @@ Status SparseCholesky::compute(const CsrMatrix& a, OrderingMethod method, Thread
 
 Status SparseCholesky::factorize(const CsrMatrix& a, ThreadPool* pool) {
     factored_ = false;
+    stopped_ = false;
     if (!symbolic_.matches(a))
         return {Errc::invalid_argument,
                 "Cholesky: the matrix's pattern differs from the analysed one"};
+    if (stop_requested()) return stopped_status();
     const auto start = std::chrono::steady_clock::now();
     const CholeskySymbolic& sym = symbolic_;
     const std::size_t threads = pool != nullptr ? pool->thread_count() : 1;
@@ -280,13 +323,16 @@ Status SparseCholesky::factorize(const CsrMatrix& a, ThreadPool* pool) {
     size_scratch(sym, threads, scratch_);
     FirstFailure failure;
     if (threads == 1) {
-        factor_in_order(sym, a.values, values_, scratch_[0], failure);
+        factor_in_order(sym, a.values, values_, scratch_[0], failure, stop_);
     } else {
         if (schedule_.subtrees.size() != threads) schedule_ = make_cholesky_schedule(sym, threads);
-        factor_subtrees(sym, schedule_, a.values, values_, scratch_, *pool, failure);
-        factor_top(sym, schedule_, a.values, values_, scratch_, *pool, failure);
+        factor_subtrees(sym, schedule_, a.values, values_, scratch_, *pool, failure, stop_);
+        factor_top(sym, schedule_, a.values, values_, scratch_, *pool, failure, stop_);
     }
     times_.numeric_ms = ms_since(start);
+    // A stop may leave supernodes unfactored behind one that failed for
+    // want of their updates: the stop, not that failure, is what happened.
+    if (stop_requested()) return stopped_status();
     if (failure.column != no_failure)
         return {Errc::numerical, "Cholesky: the matrix is not positive definite (pivot of row " +
                                      std::to_string(sym.perm[failure.column]) +

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -58,6 +59,17 @@ public:
     Status compute(const CsrMatrix& a, OrderingMethod method = OrderingMethod::minimum_degree,
                    ThreadPool* pool = nullptr);
 
+    // A flag (not owned; null: none) that analyze and factorize look at
+    // between their phases and between supernodes: once it is true they
+    // stop and fail with Errc::cancelled, the factor unusable. Unset or
+    // false, the factor is the same bits as without one.
+    void set_stop(const std::atomic<bool>* stop) { stop_ = stop; }
+    // Whether the last analyze or factorize stopped for the flag.
+    bool stopped() const { return stopped_; }
+
+    // Bytes held: the factor's values, the analysis and the scratch.
+    std::size_t memory_bytes() const;
+
     bool is_factored() const { return factored_; }
     std::size_t size() const { return symbolic_.n; }
     const CholeskySymbolic& symbolic() const { return symbolic_; }
@@ -84,7 +96,12 @@ private:
     std::vector<double> values_;
     std::vector<CholeskyScratch> scratch_;
     CholeskyTimes times_;
+    const std::atomic<bool>* stop_ = nullptr;
+    bool stopped_ = false;
     bool factored_ = false;
+
+    // Records and reports a raised stop flag.
+    bool stop_requested();
 };
 
 }  // namespace dfm::solver

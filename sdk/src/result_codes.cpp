@@ -14,6 +14,7 @@ dfm_result to_result(Errc code) {
         case Errc::out_of_memory: return DFM_ERROR_OUT_OF_MEMORY;
         case Errc::numerical: return DFM_ERROR_NUMERICAL;
         case Errc::internal: return DFM_ERROR_INTERNAL;
+        case Errc::cancelled: return DFM_ERROR_CANCELLED;
     }
     return DFM_ERROR_INVALID_ARGUMENT;
 }

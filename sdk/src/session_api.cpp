@@ -147,9 +147,10 @@ Status start_worker(SessionObject& s, std::shared_ptr<const deform::MeshModel> m
     std::vector<glm::dvec3> handle_rest;
     handle_rest.reserve(s.handle_vertices.size());
     for (std::uint32_t v : s.handle_vertices) handle_rest.push_back(model->mesh.positions[v]);
-    deform::AsyncSession::Setup setup = [model, &roi = s.roi, &groups = s.groups,
-                                         settings](std::unique_ptr<deform::DeformSession>& out) {
-        return deform::DeformSession::create(*model, roi, groups, settings, out);
+    deform::AsyncSession::Setup setup = [model, &roi = s.roi, &groups = s.groups, settings](
+                                            std::unique_ptr<deform::DeformSession>& out,
+                                            const std::atomic<bool>* stop) {
+        return deform::DeformSession::create(*model, roi, groups, settings, out, stop);
     };
     deform::AsyncSession::Start start;
     start.first_generation = first_generation;

@@ -1,5 +1,7 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -239,4 +241,50 @@ TEST_CASE("deform: baking makes the edit the new rest pose") {
     CHECK(deform::bake_positions(model, bad, baked).code() == Errc::invalid_argument);
     CHECK(deform::bake_positions(model, std::span(bad).first(3), baked).code() ==
           Errc::invalid_argument);
+}
+
+TEST_CASE("deform: a raised stop flag ends the set-up; a lowered one changes no bit") {
+    const deform::MeshModel model = deform::build_mesh_model(test::make_limb(24, 30, 0.2, 2.0));
+    const std::vector<std::vector<std::uint32_t>> groups = {near_y(model.mesh, 1.9, 2.0)};
+    const std::vector<std::uint32_t> roi = near_y(model.mesh, 0.3, 2.0);
+    std::vector<glm::dvec3> targets;
+    for (std::uint32_t v : groups[0])
+        targets.push_back(model.mesh.positions[v] + glm::dvec3(0.4, 0, 0));
+
+    std::unique_ptr<deform::DeformSession> plain, watched, stopped;
+    REQUIRE(deform::DeformSession::create(model, roi, groups, {}, plain).is_ok());
+    std::atomic<bool> stop{false};
+    REQUIRE(deform::DeformSession::create(model, roi, groups, {}, watched, &stop).is_ok());
+    deform::SolveReport r1, r2;
+    REQUIRE(plain->set_targets(targets).is_ok());
+    REQUIRE(watched->set_targets(targets).is_ok());
+    REQUIRE(plain->solve(r1).is_ok());
+    REQUIRE(watched->solve(r2).is_ok());
+    CHECK(r1.iterations == r2.iterations);
+    CHECK(std::equal(plain->positions().begin(), plain->positions().end(),
+                     watched->positions().begin()));
+
+    stop = true;
+    const Status s = deform::DeformSession::create(model, roi, groups, {}, stopped, &stop);
+    CHECK(s.code() == Errc::cancelled);
+    CHECK(stopped == nullptr);
+}
+
+TEST_CASE("deform: a session's memory: a larger ROI holds a larger factor") {
+    const deform::MeshModel model = deform::build_mesh_model(test::make_limb(24, 40, 0.2, 2.0));
+    const std::vector<std::vector<std::uint32_t>> groups = {near_y(model.mesh, 1.9, 2.0)};
+    std::unique_ptr<deform::DeformSession> small, large;
+    REQUIRE(deform::DeformSession::create(model, near_y(model.mesh, 1.5, 2.0), groups, {}, small)
+                .is_ok());
+    REQUIRE(deform::DeformSession::create(model, near_y(model.mesh, 0.2, 2.0), groups, {}, large)
+                .is_ok());
+    const deform::SessionMemory a = small->memory(), b = large->memory();
+    CHECK(a.factor > 0);
+    CHECK(a.system > 0);
+    CHECK(a.iteration >= 3 * sizeof(double) * small->unknowns().count());
+    CHECK(b.factor > 2 * a.factor);
+    CHECK(b.system > a.system);
+    CHECK(b.iteration > a.iteration);
+    CHECK(a.frames == 0);  // AsyncSession's
+    CHECK(a.staging == 0);
 }

@@ -139,6 +139,28 @@ TEST_CASE("setup: cancel and destroy right after create, while the set-up runs")
     }
 }
 
+TEST_CASE("setup: destroy stops a running set-up part way, which reports it was cancelled") {
+    // A 25k-vertex limb, the ROI about 19k of them: the set-up runs for
+    // hundreds of milliseconds; destroy comes microseconds after create.
+    Limb limb(128, 200);
+    const dfm_handle_group group = {limb.tip.data(), limb.tip.size()};
+    for (int round = 0; round < 3; ++round) {
+        FrameLog log;
+        dfm_session_desc desc = limb.desc(&group);
+        desc.on_frame = &FrameLog::on_frame;
+        desc.on_frame_user = &log;
+        dfm_session* session = nullptr;
+        REQUIRE_MESSAGE(dfm_session_create(limb.mesh, &desc, &session) == DFM_OK, last_error());
+        dfm_session_destroy(session);
+        // The worker published how its set-up ended before it was joined:
+        // stopped by the destroy, not finished.
+        REQUIRE(log.frames.size() == 1);
+        CHECK(log.frames.back().status == DFM_ERROR_CANCELLED);
+        CHECK_FALSE(log.frames.back().converged);
+        CHECK(log.frames.back().generation == 0);
+    }
+}
+
 TEST_CASE("setup: two sessions set up at once on two threads, each with its own frames") {
     Limb limb(24, 40);
     const dfm_handle_group group = {limb.tip.data(), limb.tip.size()};

@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -194,4 +195,56 @@ TEST_CASE("solver: Cholesky factor and solve are bit-identical with 1, 2 and 3 t
         }
     }
     for (std::size_t s = 2; s < solutions.size(); ++s) CHECK(solutions[s] == solutions[s % 2]);
+}
+
+TEST_CASE("solver: a raised stop flag ends analyze and factorize; a lowered one changes nothing") {
+    const CsrMatrix a = dfm::test::normal_product(dfm::test::grid_laplacian(70, 60), 1e-6);
+    const std::vector<double> b = dfm::test::random_vector(a.rows * 3, 22);
+    for (const std::size_t threads : {1u, 3u}) {
+        CAPTURE(threads);
+        ThreadPool pool(threads);
+        SparseCholesky plain;
+        REQUIRE(plain.compute(a, OrderingMethod::minimum_degree, &pool).is_ok());
+        const std::vector<double> reference = cholesky_solve(plain, b, 3, &pool);
+
+        std::atomic<bool> stop{false};
+        SparseCholesky watched;
+        watched.set_stop(&stop);
+        REQUIRE(watched.compute(a, OrderingMethod::minimum_degree, &pool).is_ok());
+        CHECK_FALSE(watched.stopped());
+        CHECK(cholesky_solve(watched, b, 3, &pool) == reference);
+
+        // Raised after the analysis: the numeric phase stops before its first supernode.
+        stop = true;
+        const dfm::Status numeric = watched.factorize(a, &pool);
+        CHECK(numeric.code() == dfm::Errc::cancelled);
+        CHECK(watched.stopped());
+        CHECK_FALSE(watched.is_factored());
+        // Lowered again, the same analysis factors to the same bits.
+        stop = false;
+        REQUIRE(watched.factorize(a, &pool).is_ok());
+        CHECK_FALSE(watched.stopped());
+        CHECK(cholesky_solve(watched, b, 3, &pool) == reference);
+
+        // Raised before the analysis: no ordering is computed.
+        stop = true;
+        SparseCholesky fresh;
+        fresh.set_stop(&stop);
+        CHECK(fresh.compute(a, OrderingMethod::minimum_degree, &pool).code() ==
+              dfm::Errc::cancelled);
+        CHECK(fresh.stopped());
+        CHECK_FALSE(fresh.is_factored());
+        CHECK(fresh.times().ordering_ms == 0.0);
+    }
+}
+
+TEST_CASE("solver: the factor's memory grows with the system and covers its values") {
+    SparseCholesky small, large;
+    const CsrMatrix a = dfm::test::normal_product(dfm::test::grid_laplacian(20, 20), 1e-6);
+    const CsrMatrix b = dfm::test::normal_product(dfm::test::grid_laplacian(60, 60), 1e-6);
+    REQUIRE(small.compute(a).is_ok());
+    REQUIRE(large.compute(b).is_ok());
+    CHECK(small.memory_bytes() >= small.symbolic().stored_values * sizeof(double));
+    CHECK(large.memory_bytes() >= large.symbolic().stored_values * sizeof(double));
+    CHECK(large.memory_bytes() > 4 * small.memory_bytes());
 }

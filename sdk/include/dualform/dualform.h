@@ -265,6 +265,26 @@ typedef struct dfm_mesh_info {
 /* Fills *out with the current rest pose's figures. Thread-safe. */
 DFM_API dfm_result dfm_mesh_get_info(const dfm_mesh* mesh, dfm_mesh_info* out);
 
+/* A mesh's working memory in bytes, by part (dfm_mesh_get_memory): the
+ * capacities of the arrays Dualform holds for it, exactly. Sessions on the
+ * mesh report their own (dfm_session_get_memory). */
+typedef struct dfm_mesh_memory {
+    size_t rest_pose; /* the current rest pose's positions and triangles */
+    size_t adjacency; /* its edges, face and vertex neighbours, faces per vertex */
+    size_t model;     /* its dual Laplacian (neighbours, weights, heights) */
+    /* The earlier and undone rest poses that undo and redo can bring back,
+     * each counted in full (all three parts above). */
+    size_t history;
+    /* The pick scene once a pick has built it, else 0: its copy of the
+     * positions and triangles and the vertex and index buffers handed to
+     * Embree. Embree's BVH is not counted (Embree does not report it). */
+    size_t pick_scene;
+    size_t total; /* the sum of the parts above */
+} dfm_mesh_memory;
+
+/* Fills *out with the mesh's working memory. Thread-safe. */
+DFM_API dfm_result dfm_mesh_get_memory(const dfm_mesh* mesh, dfm_mesh_memory* out);
+
 /* Copies the rest positions (all vertex_count of them) into the host's
  * buffer. Thread-safe. */
 DFM_API dfm_result dfm_mesh_read_positions(const dfm_mesh* mesh, const dfm_vec3_output* out);
@@ -468,7 +488,9 @@ typedef struct dfm_session_desc {
  * the group and vertex), then the set-up (assembly, ordering, factorization)
  * runs on the session's new worker thread. Until it ends, frames show the
  * rest pose with `preparing` set, submitted targets wait for it, and cancel
- * and destroy work as usual (destroy waits for the set-up to end). A set-up
+ * and destroy work as usual (destroy stops the set-up part way: between its
+ * phases and between the factorization's supernodes; on_frame then hears
+ * one last frame with status DFM_ERROR_CANCELLED). A set-up
  * that fails (out of memory, a singular system) is reported in the next
  * frame's status and by every later submit. The session starts at the rest
  * pose with every group's transform the identity. It holds its mesh alive.
@@ -476,9 +498,10 @@ typedef struct dfm_session_desc {
 DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_session_desc* desc,
                                       dfm_session** out);
 
-/* Stops the worker after its current iteration, joins it and frees the
- * session; returns within one iteration's time. NULL is a no-op. Must not
- * race another call on the same session. */
+/* Stops the worker after its current iteration, or its set-up part way
+ * (see dfm_session_create), joins it and frees the session; returns within
+ * one iteration's time, or one phase's of a running set-up. NULL is a
+ * no-op. Must not race another call on the same session. */
 DFM_API void dfm_session_destroy(dfm_session* session);
 
 /* Stages group `group`'s transform: a column-major 4x4 affine matrix applied
@@ -493,6 +516,35 @@ DFM_API dfm_result dfm_session_set_targets(dfm_session* session, const dfm_vec3_
 
 /* Number of handle vertices (targets) of the session. */
 DFM_API dfm_result dfm_session_get_handle_count(const dfm_session* session, size_t* out);
+
+/* A session's working memory in bytes, by part (dfm_session_get_memory):
+ * the capacities of the arrays the session holds, exactly, as measured
+ * when its newest frame was published. The mesh it edits is not counted
+ * (dfm_mesh_get_memory). */
+typedef struct dfm_session_memory {
+    /* The complete factor L of the normal matrix: its values, indices,
+     * ordering and analysis, and the factorization's scratch (with the
+     * default preconditioner; the chosen preconditioner's arrays otherwise). */
+    size_t factor;
+    /* The normal matrix N, the rows it is assembled from, the rigidity
+     * rows' rest data and the map of unknowns. */
+    size_t normal_matrix;
+    /* The iteration's vectors: positions, targets, right-hand sides,
+     * Anderson's history, the frame prediction, the Krylov workspace. */
+    size_t iteration;
+    /* The published frames' slots (positions and normals in double and
+     * float) and what the normals are computed from. */
+    size_t frames;
+    /* The staged, queued and solving targets, the handles' rest positions,
+     * the ROI and groups, the whole-mesh rest normals once read. */
+    size_t staging;
+    size_t total; /* the sum of the parts above */
+} dfm_session_memory;
+
+/* Fills *out with the session's working memory. While the set-up runs, the
+ * parts it builds (factor, normal_matrix, iteration) are 0: they exist only
+ * once it ends. Never blocks on the worker; thread safety as the reads. */
+DFM_API dfm_result dfm_session_get_memory(dfm_session* session, dfm_session_memory* out);
 
 /* Changes the tolerance and iteration cap for later solves. handle_weight,
  * hard_handles, preconditioner and disable_prediction are fixed at creation
