@@ -1,8 +1,7 @@
 # The dualform tool proves the public contract: its files include only the
 # public headers (dualform/dualform.h, dualform/dualform_vulkan.h), the
-# tool's own headers, the tools' JSON and environment modules, and
-# core/status.hpp (the status type the tool shares with the engine; it needs
-# nothing else of it).
+# tool's own headers (its status type among them: dualform/tool_status.hpp)
+# and the tools' JSON and environment modules; nothing of the engine.
 #
 # usage: cmake -DTOOL_DIR=tools/dualform -P public_api_includes.cmake
 cmake_minimum_required(VERSION 3.25)
@@ -17,8 +16,7 @@ foreach(path IN LISTS sources)
   foreach(line IN LISTS includes)
     string(REGEX REPLACE "^#include \"([^\"]+)\".*$" "\\1" header "${line}")
     if(header MATCHES "^dualform/(dualform|dualform_vulkan)\\.h$"
-       OR header MATCHES "^(json|environment)/"
-       OR header STREQUAL "core/status.hpp")
+       OR header MATCHES "^(json|environment)/")
       continue()
     endif()
     if(header MATCHES "^dualform/(.+)$" AND EXISTS "${TOOL_DIR}/${CMAKE_MATCH_1}")

@@ -21,7 +21,7 @@ std::filesystem::path scenarios_dir() {
 
 Scenario parse_ok(std::string_view text) {
     Scenario out;
-    const dfm::Status s = parse_scenario(text, "s.json", out);
+    const Status s = parse_scenario(text, "s.json", out);
     INFO(s.message());
     REQUIRE(s.is_ok());
     return out;
@@ -50,9 +50,9 @@ void check_message(std::string_view text, const std::string& located) {
     Scenario out;
     out.mesh = "left over";
     out.handles.resize(2);
-    const dfm::Status s = parse_scenario(text, "s.json", out);
+    const Status s = parse_scenario(text, "s.json", out);
     REQUIRE_FALSE(s.is_ok());
-    CHECK(s.code() == dfm::Errc::parse_error);
+    CHECK(s.code() == DFM_ERROR_PARSE);
     CHECK(s.message() == located);
     CHECK(out.mesh.empty());
     CHECK(out.handles.empty());
@@ -122,7 +122,7 @@ TEST_CASE("scenario: the example scenarios parse") {
         CAPTURE(name);
         const std::filesystem::path path = scenarios_dir() / (std::string(name) + ".json");
         Scenario s;
-        const dfm::Status status = load_scenario(path, s);
+        const Status status = load_scenario(path, s);
         INFO(status.message());
         REQUIRE(status.is_ok());
         CHECK(s.mesh.starts_with("model:"));
@@ -558,7 +558,7 @@ TEST_CASE("scenario: errors in a multi-line file name line and column") {
         "  ]\n"
         "}\n";
     Scenario s;
-    const dfm::Status status = parse_scenario(text, "cow.json", s);
+    const Status status = parse_scenario(text, "cow.json", s);
     CHECK(status.message() ==
           "cow.json:7:47: handles[1].rotate.degrees: expected a number, found a string");
 }
@@ -578,7 +578,7 @@ TEST_CASE("scenario: malformed JSON") {
     const std::string deep =
         with(any_roi, any_handles, ", \"comment\": " + std::string(100000, '['));
     Scenario s;
-    const dfm::Status status = parse_scenario(deep, "s.json", s);
+    const Status status = parse_scenario(deep, "s.json", s);
     CHECK(status.message().starts_with("s.json:1:"));
     CHECK(status.message().ends_with(": arrays and objects nest deeper than 256 levels"));
     check_error(with(any_roi, any_handles, R"(, "mesh": "again")"), R"("mesh": "again")",
@@ -600,8 +600,8 @@ TEST_CASE("scenario: load_scenario reads files and names them in errors") {
 
     const std::filesystem::path bad = sub / "bad.json";
     dfm::test::write_text(bad, "{\n  \"mesh\": 1\n}");
-    dfm::Status status = load_scenario(bad, s);
-    CHECK(status.code() == dfm::Errc::parse_error);
+    Status status = load_scenario(bad, s);
+    CHECK(status.code() == DFM_ERROR_PARSE);
     CHECK(status.message() ==
           bad.string() +
               ":2:11: mesh: expected a string (a mesh file path or model:NAME), found 1");
@@ -609,15 +609,15 @@ TEST_CASE("scenario: load_scenario reads files and names them in errors") {
     CHECK(s.base_dir.empty());
 
     status = load_scenario(sub / "missing.json", s);
-    CHECK(status.code() == dfm::Errc::not_found);
+    CHECK(status.code() == DFM_ERROR_NOT_FOUND);
     CHECK(status.message() == (sub / "missing.json").string() + ": no such scenario file");
 
     status = load_scenario(sub, s);
-    CHECK(status.code() == dfm::Errc::io_error);
+    CHECK(status.code() == DFM_ERROR_IO);
     CHECK(status.message() == sub.string() + ": is a directory, not a scenario file");
 
     status = load_scenario("/dev/null", s);
-    CHECK(status.code() == dfm::Errc::io_error);
+    CHECK(status.code() == DFM_ERROR_IO);
     CHECK(status.message() == "/dev/null: is not a regular file");
 
     const std::filesystem::path empty = sub / "empty.json";
@@ -632,7 +632,7 @@ TEST_CASE("scenario: load_scenario reads files and names them in errors") {
         MESSAGE("this user reads files without read permission; the unreadable case is skipped");
     } else {
         status = load_scenario(locked, s);
-        CHECK(status.code() == dfm::Errc::io_error);
+        CHECK(status.code() == DFM_ERROR_IO);
         CHECK(status.message().starts_with(locked.string() + ": cannot open: "));
     }
     std::filesystem::permissions(locked, std::filesystem::perms::owner_all);
@@ -660,7 +660,7 @@ TEST_CASE("scenario: damaged scenarios give a located error or a scenario, never
             text.replace(at, len, pieces[rng() % std::size(pieces)]);
         }
         Scenario s;
-        const dfm::Status status = parse_scenario(text, "s.json", s);
+        const Status status = parse_scenario(text, "s.json", s);
         if (!status) {
             CAPTURE(text);
             REQUIRE(status.message().starts_with("s.json:"));

@@ -17,9 +17,9 @@ namespace {
 
 Status check_vertex(std::uint32_t v, const ScenarioMesh& mesh, const std::string& what) {
     if (v < mesh.info.vertex_count) return Status::ok();
-    return Status(Errc::out_of_range, what + ": vertex " + std::to_string(v) +
-                                          " is out of range (the mesh has " +
-                                          std::to_string(mesh.info.vertex_count) + " vertices)");
+    return Status(DFM_ERROR_OUT_OF_RANGE,
+                  what + ": vertex " + std::to_string(v) + " is out of range (the mesh has " +
+                      std::to_string(mesh.info.vertex_count) + " vertices)");
 }
 
 Status read_roi(RoiPtr roi, ScenarioRoi& out) {
@@ -57,7 +57,7 @@ Status click_vertex(const ScenarioMesh& mesh, const dfm_camera& camera, glm::dve
         message += ", ";
         json::append_number(message, pixel.y);
         message += "] hits nothing";
-        return Status(Errc::invalid_argument, std::move(message));
+        return Status(DFM_ERROR_INVALID_ARGUMENT, std::move(message));
     }
     out = hit.vertex;
     return Status::ok();
@@ -213,7 +213,7 @@ Status resolve_scenario_edit(const Scenario& scenario, const ScenarioMesh& mesh,
         }
         for (std::uint32_t v : group) {
             if (!std::binary_search(roi.begin(), roi.end(), v)) {
-                return Status(Errc::invalid_argument,
+                return Status(DFM_ERROR_INVALID_ARGUMENT,
                               what + ": vertex " + std::to_string(v) + " is outside the ROI");
             }
         }

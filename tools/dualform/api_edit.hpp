@@ -6,9 +6,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "core/status.hpp"
 #include "dualform/c_api.hpp"
 #include "dualform/scenario.hpp"
+#include "dualform/tool_status.hpp"
 
 namespace dfm::cli {
 

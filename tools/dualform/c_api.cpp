@@ -8,20 +8,6 @@ namespace dfm::cli {
 
 namespace {
 
-Errc errc_of(dfm_result result) {
-    switch (result) {
-        case DFM_OK: return Errc::ok;
-        case DFM_ERROR_NOT_FOUND: return Errc::not_found;
-        case DFM_ERROR_IO: return Errc::io_error;
-        case DFM_ERROR_PARSE: return Errc::parse_error;
-        case DFM_ERROR_OUT_OF_RANGE: return Errc::out_of_range;
-        case DFM_ERROR_UNSUPPORTED: return Errc::unsupported;
-        case DFM_ERROR_OUT_OF_MEMORY: return Errc::out_of_memory;
-        case DFM_ERROR_NUMERICAL: return Errc::numerical;
-        default: return Errc::invalid_argument;
-    }
-}
-
 void print_warning(void*, dfm_log_level level, dfm_log_id id, const char* message) {
     if (level >= DFM_LOG_WARNING && id == DFM_LOG_ID_LOAD_WARNING) {
         std::fprintf(stderr, "warning: %s\n", message);
@@ -35,7 +21,7 @@ Status api_status(dfm_result result, const std::string& what) {
     std::string message = what;
     if (!message.empty()) message += ": ";
     message += dfm_last_error_message();
-    return Status(errc_of(result), std::move(message));
+    return Status(result, std::move(message));
 }
 
 Status create_context(ContextPtr& out, std::uint32_t worker_count) {

@@ -4,8 +4,8 @@
 #include <memory>
 #include <string>
 
-#include "core/status.hpp"
 #include "dualform/dualform.h"
+#include "dualform/tool_status.hpp"
 
 // The tool's side of the C API: owning pointers for its handles, and its
 // failures as the tool's statuses.

@@ -107,8 +107,8 @@ Status solve_frame(dfm_session* session, Solved& out) {
     if (Status s = api_status(dfm_session_get_solve_details(session, &out.details, nullptr)); !s)
         return s;
     if (out.info.status != DFM_OK) {
-        return Status(Errc::numerical, std::string("the solve broke down (") +
-                                           dfm_result_name(out.info.status) + ")");
+        return Status(DFM_ERROR_NUMERICAL, std::string("the solve broke down (") +
+                                               dfm_result_name(out.info.status) + ")");
     }
     return Status::ok();
 }

@@ -40,7 +40,7 @@ Status solve_edit(const Scenario& scenario, ScenarioMesh& mesh, bool last, EditC
     dfm_frame_info solved = {};
     if (Status s = api_status(dfm_session_poll(session.get(), 0, &solved, nullptr)); !s) return s;
     if (solved.status != DFM_OK) {
-        return Status(Errc::numerical,
+        return Status(DFM_ERROR_NUMERICAL,
                       std::string("the solve broke down (") + dfm_result_name(solved.status) + ")");
     }
     if (!solved.converged) ++out.unconverged;
@@ -59,7 +59,7 @@ Status solve_edit(const Scenario& scenario, ScenarioMesh& mesh, bool last, EditC
 
 Status run_edit_chain(std::span<const std::string> scenario_paths, EditChain& out) {
     out = EditChain{};
-    if (scenario_paths.empty()) return Status(Errc::invalid_argument, "no scenario given");
+    if (scenario_paths.empty()) return Status(DFM_ERROR_INVALID_ARGUMENT, "no scenario given");
     ScenarioMesh mesh;
     std::string mesh_spec;
     const std::size_t count = scenario_paths.size();
@@ -75,9 +75,9 @@ Status run_edit_chain(std::span<const std::string> scenario_paths, EditChain& ou
             out.marks.assign(mesh.info.vertex_count, 0);
         } else if (scenario.mesh != mesh_spec || scenario.subdivide != 0) {
             return in_chain(
-                Status(Errc::invalid_argument, "edits in a chain must all name \"" + mesh_spec +
-                                                   "\" without subdivision; this one names \"" +
-                                                   scenario.mesh + "\""),
+                Status(DFM_ERROR_INVALID_ARGUMENT, "edits in a chain must all name \"" + mesh_spec +
+                                                       "\" without subdivision; this one names \"" +
+                                                       scenario.mesh + "\""),
                 path, i, count);
         }
         if (Status s = solve_edit(scenario, mesh, i + 1 == count, out); !s) {

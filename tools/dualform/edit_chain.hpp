@@ -7,7 +7,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "core/status.hpp"
+#include "dualform/tool_status.hpp"
 
 namespace dfm::cli {
 

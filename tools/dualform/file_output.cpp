@@ -8,7 +8,7 @@ Status write_text_file(const std::string& path, const std::string& text) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out << text << '\n';
     out.close();
-    if (!out) return Status(Errc::io_error, path + ": cannot write");
+    if (!out) return Status(DFM_ERROR_IO, path + ": cannot write");
     return Status::ok();
 }
 

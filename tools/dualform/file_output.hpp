@@ -4,7 +4,7 @@
 #include <span>
 #include <string>
 
-#include "core/status.hpp"
+#include "dualform/tool_status.hpp"
 
 namespace dfm::cli {
 

@@ -28,12 +28,12 @@ Status load_plain_mesh(const std::string& spec, MeshArrays& out) {
 
 Status load_render_scene(std::span<const std::string> inputs, RenderScene& out) {
     out = RenderScene{};
-    if (inputs.empty()) return Status(Errc::invalid_argument, "nothing to render");
+    if (inputs.empty()) return Status(DFM_ERROR_INVALID_ARGUMENT, "nothing to render");
     bool scenarios = true;
     for (const std::string& input : inputs) scenarios = scenarios && input.ends_with(".json");
     if (!scenarios) {
         if (inputs.size() > 1) {
-            return Status(Errc::invalid_argument,
+            return Status(DFM_ERROR_INVALID_ARGUMENT,
                           "give one mesh, or one or more scenarios (.json)");
         }
         return load_plain_mesh(inputs.front(), out.rest);

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "core/status.hpp"
 #include "dualform/edit_chain.hpp"
+#include "dualform/tool_status.hpp"
 
 namespace dfm::cli {
 

@@ -36,15 +36,16 @@ using json::JsonStatus;
 using json::JsonType;
 using json::JsonValue;
 
-// The JSON reader's outcome as the engine's status, keeping its message.
+// The JSON reader's outcome as the tool's status, keeping its message.
 Status read_json(std::string_view text, std::string_view source, JsonValue& out) {
     const JsonStatus read = json::parse_json(text, source, {.keep_huge_numbers = true}, out);
     switch (read.code()) {
         case JsonStatus::Code::ok: return Status::ok();
-        case JsonStatus::Code::out_of_memory: return Status(Errc::out_of_memory, read.message());
+        case JsonStatus::Code::out_of_memory:
+            return Status(DFM_ERROR_OUT_OF_MEMORY, read.message());
         case JsonStatus::Code::parse_error: break;
     }
-    return Status(Errc::parse_error, read.message());
+    return Status(DFM_ERROR_PARSE, read.message());
 }
 
 using Names = std::initializer_list<std::string_view>;
@@ -183,7 +184,7 @@ private:
             message += ": ";
         }
         message += what;
-        return Status(Errc::parse_error, std::move(message));
+        return Status(DFM_ERROR_PARSE, std::move(message));
     }
 
     Status expected(const Field& f, std::string_view what) const {
@@ -549,7 +550,7 @@ private:
 Status out_of_memory(std::string_view source) {
     std::string message(source);
     message += ": out of memory while reading the scenario";
-    return Status(Errc::out_of_memory, std::move(message));
+    return Status(DFM_ERROR_OUT_OF_MEMORY, std::move(message));
 }
 
 Status read_scenario_file(const std::filesystem::path& path, std::string& text) {
@@ -557,23 +558,23 @@ Status read_scenario_file(const std::filesystem::path& path, std::string& text) 
     std::error_code ec;
     const std::filesystem::file_status st = std::filesystem::status(path, ec);
     if (st.type() == std::filesystem::file_type::not_found) {
-        return Status(Errc::not_found, name + ": no such scenario file");
+        return Status(DFM_ERROR_NOT_FOUND, name + ": no such scenario file");
     }
-    if (ec) return Status(Errc::io_error, name + ": cannot access: " + ec.message());
+    if (ec) return Status(DFM_ERROR_IO, name + ": cannot access: " + ec.message());
     if (std::filesystem::is_directory(st)) {
-        return Status(Errc::io_error, name + ": is a directory, not a scenario file");
+        return Status(DFM_ERROR_IO, name + ": is a directory, not a scenario file");
     }
     // A device or pipe could feed bytes forever.
     if (!std::filesystem::is_regular_file(st)) {
-        return Status(Errc::io_error, name + ": is not a regular file");
+        return Status(DFM_ERROR_IO, name + ": is not a regular file");
     }
     std::ifstream in(path, std::ios::binary);
-    if (!in) return Status(Errc::io_error, name + ": cannot open: " + std::strerror(errno));
+    if (!in) return Status(DFM_ERROR_IO, name + ": cannot open: " + std::strerror(errno));
     char buffer[1 << 16];
     while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
         text.append(buffer, static_cast<std::size_t>(in.gcount()));
     }
-    if (in.bad()) return Status(Errc::io_error, name + ": read failed");
+    if (in.bad()) return Status(DFM_ERROR_IO, name + ": read failed");
     return Status::ok();
 }
 
@@ -614,10 +615,10 @@ Status read_camera_argument(std::string_view argument, dfm_camera& out) {
     }
     const std::string path(argument);
     std::ifstream in(path, std::ios::binary);
-    if (!in) return Status(Errc::io_error, path + ": cannot open: " + std::strerror(errno));
+    if (!in) return Status(DFM_ERROR_IO, path + ": cannot open: " + std::strerror(errno));
     std::ostringstream text;
     text << in.rdbuf();
-    if (in.bad()) return Status(Errc::io_error, path + ": read failed");
+    if (in.bad()) return Status(DFM_ERROR_IO, path + ": read failed");
     return parse_camera(text.str(), path, out);
 }
 

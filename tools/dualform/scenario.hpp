@@ -10,8 +10,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "core/status.hpp"
 #include "dualform/dualform.h"
+#include "dualform/tool_status.hpp"
 
 // An edit scenario as docs/scenarios.md defines it, parsed and checked
 // for form (types, required fields, unknown fields) but not yet against a
