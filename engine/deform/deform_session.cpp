@@ -290,6 +290,22 @@ Status DeformSession::set_stopping_rule(double tolerance, int max_iterations) {
     return Status::ok();
 }
 
+// The plain step's length |G(x) - x|, the convergence measure: the largest
+// vertex move from current_ to x_. NaN fails every comparison, so a
+// non-finite solution shows as a non-finite length; the positions keep the
+// last good state.
+double DeformSession::plain_step_length() const {
+    double largest = 0.0;
+    for (std::size_t i = 0; i < unknowns_.count(); ++i) {
+        const glm::dvec3 step(x_[3 * i] - current_[3 * i], x_[3 * i + 1] - current_[3 * i + 1],
+                              x_[3 * i + 2] - current_[3 * i + 2]);
+        const double move = glm::length(step);
+        largest = std::isfinite(move) ? std::max(largest, move) : move;
+        if (!std::isfinite(largest)) break;
+    }
+    return largest;
+}
+
 Status DeformSession::solve(SolveReport& report, const Control* control) {
     const std::atomic<bool>* interrupt = control != nullptr ? control->interrupt : nullptr;
     report = SolveReport{};
@@ -331,19 +347,8 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
         }
         report.linear_ms += elapsed_ms(phase);
         report.krylov_iterations += krylov;
-        // The plain step's length |G(x) - x| is the convergence measure. NaN
-        // fails every comparison, so a non-finite solution shows as a
-        // non-finite length; the positions keep the last good state.
-        double largest = 0.0;
-        for (std::size_t i = 0; i < unknowns_.count(); ++i) {
-            const glm::dvec3 step(x_[3 * i] - current_[3 * i], x_[3 * i + 1] - current_[3 * i + 1],
-                                  x_[3 * i + 2] - current_[3 * i + 2]);
-            const double move = glm::length(step);
-            largest = std::isfinite(move) ? std::max(largest, move) : move;
-            if (!std::isfinite(largest)) break;
-        }
         report.iterations = it + 1;
-        report.last_update = largest / diag;
+        report.last_update = plain_step_length() / diag;
         if (!std::isfinite(report.last_update)) {
             report.solve_ms = elapsed_ms(start);
             return Status(Errc::numerical,

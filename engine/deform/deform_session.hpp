@@ -176,6 +176,7 @@ private:
     void compute_right_hand_side();
     void store_solution();
     void verify_last_solve(SolveReport& report);
+    double plain_step_length() const;
     // fitted_iteration.cpp
     Status solve_fitted(SolveReport& report, const Control* control);
     double fit_and_prepare(std::span<const double> x, int rotation_steps, SolveReport& report);

@@ -123,16 +123,8 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
         }
         report.linear_ms += ms_since(phase);
         report.krylov_iterations += krylov;
-        double largest = 0.0;
-        for (std::size_t i = 0; i < unknowns_.count(); ++i) {
-            const glm::dvec3 step(x_[3 * i] - current_[3 * i], x_[3 * i + 1] - current_[3 * i + 1],
-                                  x_[3 * i + 2] - current_[3 * i + 2]);
-            const double move = glm::length(step);
-            largest = std::isfinite(move) ? std::max(largest, move) : move;
-            if (!std::isfinite(largest)) break;
-        }
         report.iterations = it + 1;
-        report.last_update = largest / diag;
+        report.last_update = plain_step_length() / diag;
         if (!std::isfinite(report.last_update)) {
             report.solve_ms = elapsed_ms();
             return Status(Errc::numerical,

@@ -13,30 +13,11 @@
 #include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
-#include "roi/ball_selection.hpp"
+#include "support/real_models.hpp"
 
 using namespace dfm;
 
 namespace {
-
-deform::MeshModel load_model(const std::string& name) {
-    std::filesystem::path path;
-    REQUIRE(mesh::resolve_mesh_spec("model:" + name, {},
-                                    dfm::tools::models_folder_from_environment(), path)
-                .is_ok());
-    mesh::Mesh m;
-    REQUIRE(mesh::load_mesh(path, m).is_ok());
-    return deform::build_mesh_model(std::move(m));
-}
-
-std::vector<std::uint32_t> ball(const deform::MeshModel& model, std::uint32_t center,
-                                double radius) {
-    std::vector<std::uint32_t> out;
-    REQUIRE(roi::select_ball(model.mesh.positions, model.vertex_neighbors, center,
-                             radius * model.diagonal, out)
-                .is_ok());
-    return out;
-}
 
 std::vector<std::uint32_t> all_vertices(const deform::MeshModel& model) {
     std::vector<std::uint32_t> v(model.mesh.vertex_count());
@@ -47,7 +28,7 @@ std::vector<std::uint32_t> all_vertices(const deform::MeshModel& model) {
 }  // namespace
 
 TEST_CASE("cow: A V gives the dual Laplacian coordinates of the rest mesh") {
-    const deform::MeshModel model = load_model("cow");
+    const deform::MeshModel model = test::load_real_model("cow");
     std::vector<glm::dvec3> c(model.mesh.face_count());
     dual::compute_centroids(model.mesh, model.mesh.positions, c);
     double worst = 0.0;
@@ -67,7 +48,7 @@ TEST_CASE("cow: A V gives the dual Laplacian coordinates of the rest mesh") {
 }
 
 TEST_CASE("cow: the dual Laplacian and one fixed vertex rebuild the mesh") {
-    const deform::MeshModel model = load_model("cow");
+    const deform::MeshModel model = test::load_real_model("cow");
     deform::UnknownMap unknowns;
     unknowns.unknown_of_vertex.assign(model.mesh.vertex_count(), mesh::no_index);
     for (std::uint32_t v = 1; v < model.mesh.vertex_count(); ++v) {
@@ -113,9 +94,9 @@ TEST_CASE("cow: the dual Laplacian and one fixed vertex rebuild the mesh") {
 }
 
 TEST_CASE("cow: zero handle motion returns the rest mesh; outside the ROI is bit-identical") {
-    const deform::MeshModel model = load_model("cow");
-    const std::vector<std::uint32_t> roi = ball(model, 771, 0.2);
-    const std::vector<std::vector<std::uint32_t>> groups = {ball(model, 771, 0.03)};
+    const deform::MeshModel model = test::load_real_model("cow");
+    const std::vector<std::uint32_t> roi = test::ball_around(model, 771, 0.2);
+    const std::vector<std::vector<std::uint32_t>> groups = {test::ball_around(model, 771, 0.03)};
     std::unique_ptr<deform::DeformSession> s;
     REQUIRE(deform::DeformSession::create(model, roi, groups, {}, s).is_ok());
     deform::SolveReport r;
@@ -147,7 +128,7 @@ TEST_CASE("cow: zero handle motion returns the rest mesh; outside the ROI is bit
 }
 
 TEST_CASE("cow: rotating both ends of the whole mesh by 45 degrees gives the rotated cow") {
-    const deform::MeshModel model = load_model("cow");
+    const deform::MeshModel model = test::load_real_model("cow");
     // The snout and the tail tip, at opposite ends of the cow.
     std::uint32_t lo = 0;
     std::uint32_t hi = 0;
@@ -155,8 +136,8 @@ TEST_CASE("cow: rotating both ends of the whole mesh by 45 degrees gives the rot
         if (model.mesh.positions[v].x < model.mesh.positions[lo].x) lo = v;
         if (model.mesh.positions[v].x > model.mesh.positions[hi].x) hi = v;
     }
-    const std::vector<std::vector<std::uint32_t>> groups = {ball(model, lo, 0.05),
-                                                            ball(model, hi, 0.05)};
+    const std::vector<std::vector<std::uint32_t>> groups = {test::ball_around(model, lo, 0.05),
+                                                            test::ball_around(model, hi, 0.05)};
     const glm::dmat4 rot =
         glm::rotate(glm::dmat4(1.0), glm::radians(45.0), glm::normalize(glm::dvec3(0.3, 1.0, 0.2)));
     auto rotated = [&](const glm::dvec3& p) { return glm::dvec3(rot * glm::dvec4(p, 1.0)); };
@@ -181,9 +162,9 @@ TEST_CASE("cow: rotating both ends of the whole mesh by 45 degrees gives the rot
 }
 
 TEST_CASE("cow with a hole cut in it: finite everywhere, handles met") {
-    deform::MeshModel cow = load_model("cow");
+    deform::MeshModel cow = test::load_real_model("cow");
     // Remove every face around the flank vertex 1500 and its ring.
-    const std::vector<std::uint32_t> hole = ball(cow, 1500, 0.04);
+    const std::vector<std::uint32_t> hole = test::ball_around(cow, 1500, 0.04);
     std::vector<std::uint8_t> cut(cow.mesh.vertex_count(), 0);
     for (std::uint32_t v : hole) cut[v] = 1;
     mesh::Mesh m = cow.mesh;
@@ -192,7 +173,7 @@ TEST_CASE("cow with a hole cut in it: finite everywhere, handles met") {
     REQUIRE(m.face_count() < cow.mesh.face_count());
     const deform::MeshModel model = deform::build_mesh_model(std::move(m));
     CHECK(model.dual.boundary_faces > 0);
-    const std::vector<std::uint32_t> roi = ball(model, 1500, 0.3);
+    const std::vector<std::uint32_t> roi = test::ball_around(model, 1500, 0.3);
     std::uint32_t far = roi.front();
     for (std::uint32_t v : roi) {
         if (!cut[v] &&

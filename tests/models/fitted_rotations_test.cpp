@@ -18,30 +18,11 @@
 #include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
-#include "roi/ball_selection.hpp"
+#include "support/real_models.hpp"
 
 using namespace dfm;
 
 namespace {
-
-deform::MeshModel load_model(const std::string& name) {
-    std::filesystem::path path;
-    REQUIRE(mesh::resolve_mesh_spec("model:" + name, {},
-                                    dfm::tools::models_folder_from_environment(), path)
-                .is_ok());
-    mesh::Mesh m;
-    REQUIRE(mesh::load_mesh(path, m).is_ok());
-    return deform::build_mesh_model(std::move(m));
-}
-
-std::vector<std::uint32_t> ball(const deform::MeshModel& model, std::uint32_t center,
-                                double radius) {
-    std::vector<std::uint32_t> out;
-    REQUIRE(roi::select_ball(model.mesh.positions, model.vertex_neighbors, center,
-                             radius * model.diagonal, out)
-                .is_ok());
-    return out;
-}
 
 // A scenario resolved as the dualform tool resolves it (through the C API),
 // and the engine's model of the same mesh.
@@ -101,7 +82,7 @@ Solved solve(const ScenarioEdit& e, const deform::DeformSettings& settings) {
 // Whole mesh as ROI, three handle groups at its extremes moved by one rigid
 // motion: the rigid motion is the exact answer.
 void check_rigid_motion(const std::string& name, double degrees) {
-    const deform::MeshModel model = load_model(name);
+    const deform::MeshModel model = test::load_real_model(name);
     std::uint32_t lo = 0;
     std::uint32_t hi = 0;
     std::uint32_t top = 0;
@@ -111,8 +92,9 @@ void check_rigid_motion(const std::string& name, double degrees) {
         if (p.x > model.mesh.positions[hi].x) hi = v;
         if (p.y > model.mesh.positions[top].y) top = v;
     }
-    const std::vector<std::vector<std::uint32_t>> groups = {
-        ball(model, lo, 0.04), ball(model, hi, 0.04), ball(model, top, 0.04)};
+    const std::vector<std::vector<std::uint32_t>> groups = {test::ball_around(model, lo, 0.04),
+                                                            test::ball_around(model, hi, 0.04),
+                                                            test::ball_around(model, top, 0.04)};
     glm::dmat4 motion = glm::translate(glm::dmat4(1.0), 0.1 * model.diagonal * glm::dvec3(1, 0, 1));
     motion = glm::rotate(motion, glm::radians(degrees), glm::normalize(glm::dvec3(0.3, 1.0, 0.2)));
     auto moved = [&](const glm::dvec3& p) { return glm::dvec3(motion * glm::dvec4(p, 1.0)); };

@@ -14,21 +14,11 @@
 #include "mesh/normals.hpp"
 #include "pick/pick.hpp"
 #include "roi/water_fill.hpp"
+#include "support/real_models.hpp"
 
 using namespace dfm;
 
 namespace {
-
-deform::MeshModel load_model(const std::string& name) {
-    std::filesystem::path path;
-    const Status r = mesh::resolve_mesh_spec("model:" + name, {},
-                                             dfm::tools::models_folder_from_environment(), path);
-    REQUIRE_MESSAGE(r.is_ok(), r.message());
-    mesh::Mesh m;
-    const Status s = mesh::load_mesh(path, m);
-    REQUIRE_MESSAGE(s.is_ok(), s.message());
-    return deform::build_mesh_model(std::move(m));
-}
 
 roi::WaterFill fill(const deform::MeshModel& m, std::uint32_t first, std::uint32_t last) {
     const roi::SurfaceView view{m.mesh.positions, m.mesh.triangles, &m.vertex_neighbors,
@@ -70,7 +60,7 @@ void check_limb(const deform::MeshModel& model, const Limb& limb) {
 }  // namespace
 
 TEST_CASE("water_fill: the paper's cow limbs (issue 4)") {
-    const deform::MeshModel cow = load_model("cow");
+    const deform::MeshModel cow = test::load_real_model("cow");
     for (const Limb& limb : {
              Limb{"cow", "lower front leg from the hoof", 771, 681, 138, 1, true, false},
              Limb{"cow", "hind leg", 901, 827, 82, 1, true, false},
@@ -84,18 +74,18 @@ TEST_CASE("water_fill: the paper's cow limbs (issue 4)") {
 // Further limbs, their vertices found by looking at the geometry: a tip
 // (extreme along an axis) and a vertex part way towards the body.
 TEST_CASE("water_fill: more limbs of the paper's models") {
-    const deform::MeshModel cow = load_model("cow");
+    const deform::MeshModel cow = test::load_real_model("cow");
     // 2334: the tail tip (lowest x); 964: up the tail, below its root.
     check_limb(cow, {"cow", "tail", 2334, 964, 131, 1, true, false});
     // One vertex further, 939 sits on the back: the plane cuts the body and
     // the fill takes more than half the cow.
     check_limb(cow, {"cow", "tail leaking into the body", 2334, 939, 1670, 1, true, true});
 
-    const deform::MeshModel camel = load_model("camel");
+    const deform::MeshModel camel = test::load_real_model("camel");
     // 9067: the lowest vertex, a hoof; 3324: up the same leg, y = -0.306.
     check_limb(camel, {"camel", "leg", 9067, 3324, 664, 1, true, false});
 
-    const deform::MeshModel dino = load_model("dino");
+    const deform::MeshModel dino = test::load_real_model("dino");
     // The dino stands along +z: 1706 (largest z) is the top of its head;
     // 1637, z = 1.0, on the long neck. The fill is the head and upper neck.
     check_limb(dino, {"dino", "head and neck", 1706, 1637, 1065, 1, true, false});
@@ -106,7 +96,7 @@ TEST_CASE("water_fill: more limbs of the paper's models") {
     check_limb(camel, {"camel", "head (camel-head-turn)", 315, 1858, 740, 1, true, false});
     check_limb(dino, {"dino", "dino-tail-lift", 3528, 2619, 272, 1, true, false});
 
-    const deform::MeshModel triceratops = load_model("triceratops");
+    const deform::MeshModel triceratops = test::load_real_model("triceratops");
     check_limb(triceratops,
                {"triceratops", "horn (triceratops-horn-rotate)", 2322, 2356, 46, 1, true, false});
     // 409: a brow horn's tip (largest x); 371: at the horn's base.
@@ -117,7 +107,7 @@ TEST_CASE("water_fill: more limbs of the paper's models") {
 // camera looking at the hoof from outside puts vertex 771 at the image's
 // centre, and the pick there returns 771.
 TEST_CASE("water_fill: clicks on the cow pick the vertices the fill uses") {
-    const deform::MeshModel cow = load_model("cow");
+    const deform::MeshModel cow = test::load_real_model("cow");
     std::vector<glm::dvec3> normals;
     mesh::compute_vertex_normals(cow.mesh, cow.mesh.positions, normals);
     pick::EmbreeScene scene;
