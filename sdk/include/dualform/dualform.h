@@ -618,7 +618,7 @@ DFM_API dfm_result dfm_session_read_roi_positions(dfm_session* session, const df
  * position_offset within it and its unit normal (float x y z) at
  * normal_offset. Other bytes are never touched. */
 typedef struct dfm_vertex_output {
-    uint32_t struct_size; /* sizeof(dfm_vertex_output); see the conventions */
+    uint32_t struct_size;   /* sizeof(dfm_vertex_output); see the conventions */
     void* data;             /* the host's buffer; vertex i at (char*)data + i * stride */
     size_t count;           /* capacity in vertices: at least the mesh's vertex_count */
     size_t stride;          /* at least 12 bytes past each field written */
