@@ -116,9 +116,29 @@ TEST_CASE("async: three threads submit and poll one session while another acquir
     std::atomic<bool> running{true};
     std::atomic<int> failures{0};
     std::vector<std::vector<std::uint64_t>> generations(3);
+    // The submitters start once the viewer has made its first read, so the
+    // rounds overlap its reads even when the scheduler starts it late.
+    std::atomic<bool> viewing{false};
+    std::size_t held = 0, torn = 0;
+    std::thread viewer([&] {
+        while (running.load()) {
+            dfm_frame_view view = {};
+            dfm_frame_info info = {};
+            const dfm_result acquired = dfm_session_acquire_frame(limb.session, &view, &info);
+            viewing = true;
+            if (acquired != DFM_OK) continue;
+            ++held;
+            if (fnv1a(view.roi_positions_f64, 3 * view.roi_count * sizeof(double)) !=
+                info.checksum) {
+                ++torn;
+            }
+            if (dfm_session_release_frame(limb.session) != DFM_OK) ++failures;
+        }
+    });
     std::vector<std::thread> submitters;
     for (int t = 0; t < 3; ++t) {
         submitters.emplace_back([&, t] {
+            while (!viewing.load()) std::this_thread::yield();
             for (int i = 0; i < rounds; ++i) {
                 double m[16];
                 translation(0.001 * (i % 200) * (t + 1), 0.0, 0.0, m);
@@ -134,20 +154,6 @@ TEST_CASE("async: three threads submit and poll one session while another acquir
             }
         });
     }
-    std::size_t held = 0, torn = 0;
-    std::thread viewer([&] {
-        while (running.load()) {
-            dfm_frame_view view = {};
-            dfm_frame_info info = {};
-            if (dfm_session_acquire_frame(limb.session, &view, &info) != DFM_OK) continue;
-            ++held;
-            if (fnv1a(view.roi_positions_f64, 3 * view.roi_count * sizeof(double)) !=
-                info.checksum) {
-                ++torn;
-            }
-            if (dfm_session_release_frame(limb.session) != DFM_OK) ++failures;
-        }
-    });
     for (std::thread& t : submitters) t.join();
     std::uint64_t newest = 0;
     std::vector<std::uint64_t> all;
