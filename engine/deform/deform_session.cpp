@@ -10,22 +10,9 @@
 #include <glm/geometric.hpp>
 
 #include "core/memory_bytes.hpp"
+#include "core/stopwatch.hpp"
 
 namespace dfm::deform {
-
-namespace {
-
-double elapsed_ms(std::chrono::steady_clock::time_point since) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)
-        .count();
-}
-
-double face_area(const mesh::Mesh& mesh, std::span<const glm::dvec3> p, std::uint32_t f) {
-    const mesh::Triangle& t = mesh.triangles[f];
-    return 0.5 * glm::length(glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]));
-}
-
-}  // namespace
 
 const char* method_name(DeformMethod m) {
     return m == DeformMethod::paper ? "paper" : "fitted_rotations";
@@ -127,13 +114,13 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         if (settings.method == DeformMethod::fitted_rotations) {
             s->frames_.build(model, u, settings.rigidity_weight, s->rows_);
         }
-        s->setup_.rows_ms = elapsed_ms(phase);
+        s->setup_.rows_ms = ms_since(phase);
         if (stopped()) return cancelled;
         phase = std::chrono::steady_clock::now();
         solver::CsrMatrix normal =
             assemble_normal_matrix(s->rows_, u.count(), s->soft_handles_, settings.handle_weight,
                                    settings.regularization, s->epsilon_, stop);
-        s->setup_.assembly_ms = elapsed_ms(phase);
+        s->setup_.assembly_ms = ms_since(phase);
         const std::size_t normal_nonzeros = normal.nonzeros();
         if (stopped()) return cancelled;
         if (Status st =
@@ -168,7 +155,7 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         s->setup_.unknowns = u.count();
         s->setup_.rows = s->rows_.size();
         s->setup_.normal_nonzeros = normal_nonzeros;
-        s->setup_.setup_ms = elapsed_ms(start);
+        s->setup_.setup_ms = ms_since(start);
         out = std::move(s);
         return Status::ok();
     } catch (const std::bad_alloc&) {
@@ -242,8 +229,8 @@ void DeformSession::compute_dual_targets() {
         const std::uint32_t f = rows_.faces[r];
         double h = model_.dual.heights[f];
         if (settings_.scale_heights) {
-            const double rest = face_area(mesh, mesh.positions, f);
-            if (rest > 0.0) h *= std::sqrt(face_area(mesh, positions_, f) / rest);
+            const double rest = mesh::triangle_area(mesh, mesh.positions, f);
+            if (rest > 0.0) h *= std::sqrt(mesh::triangle_area(mesh, positions_, f) / rest);
         }
         dual_targets_[r] = -h * dual::ring_normal(model_.dual, centroids_, f);
     }
@@ -328,29 +315,29 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
     for (int it = 0; it < settings_.max_iterations; ++it) {
         if (it > 0 && interrupt != nullptr && interrupt->load(std::memory_order_acquire)) {
             report.interrupted = true;
-            report.solve_ms = elapsed_ms(start);
+            report.solve_ms = ms_since(start);
             return Status::ok();
         }
         auto phase = std::chrono::steady_clock::now();
         compute_dual_targets();
-        report.normals_ms += elapsed_ms(phase);
+        report.normals_ms += ms_since(phase);
         phase = std::chrono::steady_clock::now();
         compute_right_hand_side();
-        report.rhs_ms += elapsed_ms(phase);
+        report.rhs_ms += ms_since(phase);
         phase = std::chrono::steady_clock::now();
         std::size_t krylov = 0;
         if (Status s = linear_.solve(rhs_, x_, settings_.linear_tolerance * diag,
                                      LinearSolver::Accuracy::one_step, krylov);
             !s) {
-            report.solve_ms = elapsed_ms(start);
+            report.solve_ms = ms_since(start);
             return s;
         }
-        report.linear_ms += elapsed_ms(phase);
+        report.linear_ms += ms_since(phase);
         report.krylov_iterations += krylov;
         report.iterations = it + 1;
         report.last_update = plain_step_length() / diag;
         if (!std::isfinite(report.last_update)) {
-            report.solve_ms = elapsed_ms(start);
+            report.solve_ms = ms_since(start);
             return Status(Errc::numerical,
                           "the solve produced non-finite positions; the last "
                           "finite result is kept");
@@ -367,14 +354,14 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
         if (report.last_update > 2.0 * smallest_update) anderson_.restart();
         smallest_update = std::min(smallest_update, report.last_update);
         anderson_.step(current_, x_, next_);
-        report.anderson_ms += elapsed_ms(phase);
+        report.anderson_ms += ms_since(phase);
         std::copy(next_.begin(), next_.end(), current_.begin());
         std::copy(next_.begin(), next_.end(), x_.begin());
         store_solution();
         if (control != nullptr && control->on_iteration) control->on_iteration(report);
     }
     verify_last_solve(report);
-    report.solve_ms = elapsed_ms(start);
+    report.solve_ms = ms_since(start);
     return Status::ok();
 }
 
@@ -389,7 +376,7 @@ void DeformSession::verify_last_solve(SolveReport& report) {
     const auto verify_start = std::chrono::steady_clock::now();
     const Status verified = linear_.solve(rhs_, x_, settings_.linear_tolerance * diag,
                                           LinearSolver::Accuracy::verified, krylov);
-    report.linear_ms += elapsed_ms(verify_start);
+    report.linear_ms += ms_since(verify_start);
     report.krylov_iterations += krylov;
     report.linear_converged = verified.is_ok() && linear_.converged();
     if (report.linear_converged) {

@@ -10,6 +10,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/stopwatch.hpp"
 #include "deform/deform_energy.hpp"
 #include "deform/deform_session.hpp"
 #include "deform/rotation_fit.hpp"
@@ -18,17 +19,7 @@ namespace dfm::deform {
 
 namespace {
 
-double face_area(const mesh::Mesh& mesh, std::span<const glm::dvec3> p, std::uint32_t f) {
-    const mesh::Triangle& t = mesh.triangles[f];
-    return 0.5 * glm::length(glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]));
-}
-
 constexpr int first_fit_steps = 32;
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-        .count();
-}
 
 }  // namespace
 
@@ -45,8 +36,9 @@ double DeformSession::fit_and_prepare(std::span<const double> x, int rotation_st
         height_scale_.resize(frames_.dual_rows());
         for (std::size_t r = 0; r < height_scale_.size(); ++r) {
             const std::uint32_t f = rows_.faces[r];
-            const double rest = face_area(mesh, mesh.positions, f);
-            height_scale_[r] = rest > 0.0 ? std::sqrt(face_area(mesh, positions_, f) / rest) : 1.0;
+            const double rest = mesh::triangle_area(mesh, mesh.positions, f);
+            height_scale_[r] =
+                rest > 0.0 ? std::sqrt(mesh::triangle_area(mesh, positions_, f) / rest) : 1.0;
         }
     }
     const double handles =
@@ -92,10 +84,6 @@ void DeformSession::align_to_handles() {
 Status DeformSession::solve_fitted(SolveReport& report, const Control* control) {
     const std::atomic<bool>* interrupt = control != nullptr ? control->interrupt : nullptr;
     const auto start = std::chrono::steady_clock::now();
-    auto elapsed_ms = [&start] {
-        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count();
-    };
     const double diag = model_.diagonal > 0.0 ? model_.diagonal : 1.0;
     anderson_.restart();
     if (!report.predicted) align_to_handles();
@@ -110,7 +98,7 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
     for (int it = 0; it < settings_.max_iterations; ++it) {
         if (it > 0 && interrupt != nullptr && interrupt->load(std::memory_order_acquire)) {
             report.interrupted = true;
-            report.solve_ms = elapsed_ms();
+            report.solve_ms = ms_since(start);
             return Status::ok();
         }
         std::size_t krylov = 0;
@@ -118,7 +106,7 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
         if (Status s = linear_.solve(rhs_, x_, settings_.linear_tolerance * diag,
                                      LinearSolver::Accuracy::one_step, krylov);
             !s) {
-            report.solve_ms = elapsed_ms();
+            report.solve_ms = ms_since(start);
             return s;
         }
         report.linear_ms += ms_since(phase);
@@ -126,7 +114,7 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
         report.iterations = it + 1;
         report.last_update = plain_step_length() / diag;
         if (!std::isfinite(report.last_update)) {
-            report.solve_ms = elapsed_ms();
+            report.solve_ms = ms_since(start);
             return Status(Errc::numerical,
                           "the solve produced non-finite positions; the last "
                           "finite result is kept");
@@ -161,7 +149,7 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
         if (control != nullptr && control->on_iteration) control->on_iteration(report);
     }
     verify_last_solve(report);
-    report.solve_ms = elapsed_ms();
+    report.solve_ms = ms_since(start);
     return Status::ok();
 }
 

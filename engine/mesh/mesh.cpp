@@ -23,9 +23,13 @@ Bounds compute_bounds(std::span<const glm::dvec3> points) {
 }
 
 double triangle_area(const Mesh& mesh, std::size_t face) {
+    return triangle_area(mesh, mesh.positions, face);
+}
+
+double triangle_area(const Mesh& mesh, std::span<const glm::dvec3> positions, std::size_t face) {
     const Triangle& t = mesh.triangles[face];
-    const glm::dvec3& a = mesh.positions[t[0]];
-    return 0.5 * glm::length(glm::cross(mesh.positions[t[1]] - a, mesh.positions[t[2]] - a));
+    const glm::dvec3& a = positions[t[0]];
+    return 0.5 * glm::length(glm::cross(positions[t[1]] - a, positions[t[2]] - a));
 }
 
 }  // namespace dfm::mesh

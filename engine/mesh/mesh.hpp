@@ -39,5 +39,7 @@ struct Bounds {
 Bounds compute_bounds(std::span<const glm::dvec3> points);
 
 double triangle_area(const Mesh& mesh, std::size_t face);
+// The same triangle's area with its corners at `positions` (one per vertex).
+double triangle_area(const Mesh& mesh, std::span<const glm::dvec3> positions, std::size_t face);
 
 }  // namespace dfm::mesh

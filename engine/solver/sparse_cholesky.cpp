@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/memory_bytes.hpp"
+#include "core/stopwatch.hpp"
 #include "solver/cholesky_schedule.hpp"
 #include "solver/dense_kernels.hpp"
 #include "solver/elimination_tree.hpp"
@@ -18,11 +19,6 @@ constexpr std::uint32_t no_failure = std::numeric_limits<std::uint32_t>::max();
 // Supernodes above the subtrees are split between threads from this much
 // estimated work on; below it, waking the threads costs more than it saves.
 constexpr double split_work = 2e5;
-
-double ms_since(std::chrono::steady_clock::time_point since) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)
-        .count();
-}
 
 // Copies A's entries into supernode s's block (zero elsewhere) and records
 // where each of its rows sits in its row list.
