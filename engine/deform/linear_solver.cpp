@@ -1,11 +1,13 @@
 #include "deform/linear_solver.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <new>
 #include <string>
 #include <vector>
 
+#include "solver/parallel_kernels.hpp"
 #include "solver/pbcg.hpp"
 #include "solver/preconditioner.hpp"
 
@@ -17,7 +19,64 @@ struct LinearSolver::State {
     solver::PbcgWorkspace workspace;
     solver::PbcgResult result;
     bool exact = false;  // the preconditioner is the complete factor of the matrix
+    // The largest max |M⁻¹ r₀| / max |r₀| a Krylov solve has started from
+    // (0: none yet): with the complete factor, how much a residual of its
+    // solves grows into an error.
+    double amplification = 0.0;
+    bool by_residual = false;      // the last verified solve was confirmed by its residual
+    std::vector<double> residual;  // b − N x of a confirmation by the residual
+    std::vector<double> partial;   // the kernels' partial sums
+    std::array<double, 3> largest{}, residual2{}, rhs2{};
+
+    // Confirms x by its residual alone (Accuracy::verified); fills the
+    // result as a Krylov solve that converged at its start would.
+    bool confirmed_by_residual(std::span<const double> rhs, std::span<const double> x,
+                               double tolerance);
+    // Learns from a Krylov solve's start how the complete factor's
+    // residuals grow into errors.
+    void learn_amplification();
 };
+
+namespace {
+
+constexpr double residual_check_margin = 16.0;
+
+}  // namespace
+
+bool LinearSolver::State::confirmed_by_residual(std::span<const double> rhs,
+                                                std::span<const double> x, double tolerance) {
+    constexpr std::size_t k = 3;
+    const std::size_t n = matrix.rows;
+    solver::kernels::multiply(matrix, x, residual, k, nullptr);
+    for (std::size_t i = 0; i < n * k; ++i) residual[i] = rhs[i] - residual[i];
+    solver::kernels::max_abs(residual, n, k, largest, partial, nullptr);
+    for (std::size_t c = 0; c < k; ++c) {
+        if (!(amplification * largest[c] * residual_check_margin <= tolerance)) return false;
+    }
+    solver::kernels::dot(residual, residual, n, k, residual2, partial, nullptr);
+    solver::kernels::dot(rhs, rhs, n, k, rhs2, partial, nullptr);
+    result.iterations = 0;
+    result.converged = true;
+    for (std::size_t c = 0; c < k; ++c) {
+        solver::PbcgColumnResult& column = result.columns[c];
+        column = solver::PbcgColumnResult{};
+        column.converged = true;
+        column.error_estimate = amplification * largest[c];
+        column.start_residual = largest[c];
+        column.start_error_estimate = column.error_estimate;
+        column.relative_residual =
+            rhs2[c] > 0.0 ? std::sqrt(residual2[c] / rhs2[c]) : std::sqrt(residual2[c]);
+    }
+    return true;
+}
+
+void LinearSolver::State::learn_amplification() {
+    for (const solver::PbcgColumnResult& c : result.columns) {
+        if (!(c.start_residual > 0.0)) continue;
+        const double ratio = c.start_error_estimate / c.start_residual;
+        if (std::isfinite(ratio)) amplification = std::max(amplification, ratio);
+    }
+}
 
 LinearSolver::LinearSolver() = default;
 LinearSolver::~LinearSolver() = default;
@@ -35,6 +94,8 @@ Status LinearSolver::setup(solver::CsrMatrix matrix, solver::PreconditionerKind 
     state->preconditioner->reserve(3);
     state->workspace = solver::PbcgWorkspace(state->matrix.rows, 3);
     state->result.columns.resize(3);
+    state->residual.assign(state->matrix.rows * 3, 0.0);
+    state->partial.assign(solver::kernels::block_count(state->matrix.rows) * 3, 0.0);
     state->exact = state->preconditioner->is_exact();
     if (auto* cholesky = dynamic_cast<solver::CholeskyPreconditioner*>(state->preconditioner.get()))
         cholesky->set_stop(nullptr);
@@ -61,6 +122,11 @@ Status LinearSolver::solve(std::span<const double> rhs, std::span<double> x, dou
         iterations = 1;
         return Status::ok();
     }
+    s.by_residual = s.exact && s.amplification > 0.0 && s.confirmed_by_residual(rhs, x, tolerance);
+    if (s.by_residual) {
+        iterations = 0;
+        return Status::ok();
+    }
     solver::PbcgOptions options;
     options.tolerance = tolerance;
     if (Status st = solver::pbcg_solve(s.matrix, *s.preconditioner, rhs, x, 3, options, s.workspace,
@@ -69,6 +135,7 @@ Status LinearSolver::solve(std::span<const double> rhs, std::span<double> x, dou
         return st;
     }
     iterations = s.result.iterations;
+    if (s.exact) s.learn_amplification();
     for (double v : x) {
         if (!std::isfinite(v)) return Status(Errc::numerical, "the linear solve diverged");
     }
@@ -77,6 +144,10 @@ Status LinearSolver::solve(std::span<const double> rhs, std::span<double> x, dou
 
 bool LinearSolver::converged() const {
     return state_->result.converged;
+}
+
+bool LinearSolver::confirmed_by_residual() const {
+    return state_->by_residual;
 }
 
 solver::CholeskyTimes LinearSolver::factor_times() const {

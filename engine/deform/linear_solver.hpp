@@ -36,6 +36,11 @@ public:
         one_step,
         // To the tolerance, confirmed by the error estimate; converged()
         // says whether it was reached (a nearly singular system may not).
+        // With the complete factor, once a Krylov solve has measured how
+        // its residuals turn into errors (max |N⁻¹ r| / max |r|), a start
+        // whose residual, so amplified, lies 16 times under the tolerance
+        // is confirmed by that product alone: one multiplication by N
+        // instead of a second pass over the factor.
         verified,
     };
 
@@ -47,6 +52,9 @@ public:
 
     // Whether the last Krylov solve reached its tolerance in every column.
     bool converged() const;
+
+    // Whether the last verified solve was confirmed by its residual alone.
+    bool confirmed_by_residual() const;
 
     // The largest ‖b − N x‖ / ‖b‖ over the three columns after the last
     // solve that ran the Krylov iteration (every verified one does).

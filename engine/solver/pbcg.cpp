@@ -217,8 +217,11 @@ Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double>
     // from x, as every later one does.
     residual(a, b, x, it.r, k, pool);
     if (general) std::copy(it.r.begin(), it.r.end(), it.rs.begin());
+    kernels::max_abs(it.r, n, k, it.best, it.partial, pool);
+    for (std::size_t c = 0; c < k; ++c) result.columns[c].start_residual = it.best[c];
     precondition(m, it, pool);
     for (std::size_t c = 0; c < k; ++c) {
+        result.columns[c].start_error_estimate = it.error[c];
         it.best[c] = it.error[c];
         it.stalled[c] = 0;
         result.columns[c].converged = it.error[c] <= options.tolerance;

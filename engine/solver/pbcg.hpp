@@ -43,6 +43,9 @@ struct PbcgColumnResult {
     bool breakdown = false;       // ρ or p̃ᵀAp vanished (or stopped being finite) first
     bool stagnated = false;       // stopped by options.stagnation_limit
     double error_estimate = 0.0;  // the last max |M⁻¹ r|, r = b − A x recomputed
+    // The start's max |r₀| and max |M⁻¹ r₀|, r₀ = b − A x for the x passed in.
+    double start_residual = 0.0;
+    double start_error_estimate = 0.0;
     // ‖b − A x‖₂ / ‖b‖₂ recomputed from the final x (‖A x‖₂ when b = 0).
     double relative_residual = 0.0;
 };

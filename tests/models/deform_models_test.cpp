@@ -1,6 +1,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
+#include <map>
 #include <numeric>
 
 #include <glm/geometric.hpp>
@@ -10,6 +12,7 @@
 #include "deform/linear_solver.hpp"
 #include "deform/normal_system.hpp"
 #include "deform/quality.hpp"
+#include "deform/rigidity_rows.hpp"
 #include "environment/host_environment.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
@@ -91,6 +94,59 @@ TEST_CASE("cow: the dual Laplacian and one fixed vertex rebuild the mesh") {
             std::max(worst, glm::length(p - model.mesh.positions[unknowns.vertex_of_unknown[i]]));
     }
     CHECK(worst < 1e-8 * model.diagonal);
+}
+
+TEST_CASE("cow: the normal matrix is AᵀA + w²H + εI, each entry summed in A's row order") {
+    // The fitted method's rows (dual and rigidity rows) of the front leg's
+    // ball, the first vertices as soft handles: every entry must be the
+    // bits of the sum taken row by row of A, the diagonal starting from its
+    // handle and ε terms, and the pattern exactly the nonzero pairs.
+    const deform::MeshModel model = test::load_real_model("cow");
+    const std::vector<std::uint32_t> roi = test::ball_around(model, 771, 0.2);
+    deform::UnknownMap unknowns;
+    unknowns.unknown_of_vertex.assign(model.mesh.vertex_count(), mesh::no_index);
+    for (std::uint32_t v : roi) {
+        unknowns.unknown_of_vertex[v] = static_cast<std::uint32_t>(unknowns.count());
+        unknowns.vertex_of_unknown.push_back(v);
+    }
+    deform::SystemRows rows = deform::collect_rows(model, unknowns);
+    const std::size_t dual_rows = rows.size();
+    deform::RotationFrames frames;
+    frames.build(model, unknowns, 0.1, rows);
+    REQUIRE(rows.size() > dual_rows);
+    const std::vector<std::uint32_t> soft = {0, 1, 2, 2};
+    const double weight = 3.0;
+    double epsilon = 0.0;
+    const solver::CsrMatrix n =
+        deform::assemble_normal_matrix(rows, unknowns.count(), soft, weight, 1e-6, epsilon);
+    CHECK(epsilon > 0.0);
+
+    std::map<std::pair<std::uint32_t, std::uint32_t>, double> expected;
+    std::vector<double> handle(unknowns.count(), 0.0);
+    for (std::uint32_t u : soft) handle[u] += weight * weight;
+    for (std::uint32_t i = 0; i < unknowns.count(); ++i) expected[{i, i}] = handle[i] + epsilon;
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+        for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
+            for (std::uint32_t q = rows.entry_offsets[r]; q < rows.entry_offsets[r + 1]; ++q) {
+                const deform::RowEntry& a = rows.entries[p];
+                const deform::RowEntry& b = rows.entries[q];
+                if (a.unknown == mesh::no_index || b.unknown == mesh::no_index) continue;
+                expected[{a.unknown, b.unknown}] += a.coefficient * b.coefficient;
+            }
+        }
+    }
+    REQUIRE(n.rows == unknowns.count());
+    REQUIRE(n.nonzeros() == expected.size());
+    std::size_t mismatches = 0;
+    auto e = expected.begin();
+    for (std::uint32_t i = 0; i < n.rows; ++i) {
+        for (std::size_t k = n.row_offsets[i]; k < n.row_offsets[i + 1]; ++k, ++e) {
+            const bool same = e->first == std::pair(i, n.col_indices[k]) &&
+                              std::memcmp(&e->second, &n.values[k], sizeof(double)) == 0;
+            mismatches += same ? 0 : 1;
+        }
+    }
+    CHECK(mismatches == 0);
 }
 
 TEST_CASE("cow: zero handle motion returns the rest mesh; outside the ROI is bit-identical") {
