@@ -26,8 +26,9 @@ struct SupernodeUpdate {
 // Columns are in the factor's order (new numbering). Supernode s holds the
 // contiguous columns [column_begin[s], column_begin[s + 1]) and the rows
 // rows[row_begin[s] .. row_begin[s + 1]), ascending, its own columns first.
-// Its values are a dense column-major block (rows × columns) at
-// value_begin[s] in the factor's value array.
+// Its values are a dense block (rows × columns) at value_begin[s] in the
+// factor's value array: column-major while it is factored; once the whole
+// factor is, laid out for the solves (supernode_kernels.hpp).
 struct CholeskySymbolic {
     std::size_t n = 0;
     std::vector<std::uint32_t> perm;     // perm[new] = old, postordered

@@ -247,6 +247,25 @@ Status stopped_status() {
     return {Errc::cancelled, "Cholesky: stopped by the stop flag"};
 }
 
+// The factorization reads its supernodes column by column; the solves read
+// the rows below each diagonal block row by row (supernode_kernels.hpp), so
+// that both stream L in order instead of striding across its columns. Once
+// every supernode is factored, each block is rearranged in place.
+void arrange_for_solves(const CholeskySymbolic& sym, std::vector<double>& values) {
+    std::vector<double> block;
+    for (std::size_t s = 0; s < sym.supernode_count(); ++s) {
+        const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
+        const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
+        double* l = &values[sym.value_begin[s]];
+        block.assign(l, l + m * w);
+        for (std::size_t j = 0; j < w; ++j)
+            for (std::size_t i = 0; i < w; ++i) l[j * w + i] = block[j * m + i];
+        double* below = l + w * w;
+        for (std::size_t t = 0; t < m - w; ++t)
+            for (std::size_t j = 0; j < w; ++j) below[t * w + j] = block[j * m + w + t];
+    }
+}
+
 }  // namespace
 
 bool SparseCholesky::stop_requested() {
@@ -333,6 +352,8 @@ Status SparseCholesky::factorize(const CsrMatrix& a, ThreadPool* pool) {
         return {Errc::numerical, "Cholesky: the matrix is not positive definite (pivot of row " +
                                      std::to_string(sym.perm[failure.column]) +
                                      " is not positive)"};
+    arrange_for_solves(sym, values_);
+    times_.numeric_ms = ms_since(start);
     factored_ = true;
     return Status::ok();
 }

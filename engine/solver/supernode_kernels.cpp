@@ -58,106 +58,91 @@ template <std::size_t K>
         for (std::size_t c = 0; c < kk; ++c) own[j * kk + c] = s[c * w + j];
 }
 
-// GCC 12 takes the registers built from gathered rows below for
-// uninitialized (a false positive on vector-typed arrays in AVX2 clones).
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-
-// y[rows[t] K + c] −= Σ_j l[t + j ld] s[c w + j], term by term, j ascending;
-// eight rows at a time, two registers per vector, so that each column of L
-// is read once for all K vectors.
+// out[c] = dot4(n, a, s + c w) for every vector c, each row of L read once
+// for all K.
 template <std::size_t K>
-[[gnu::always_inline]] inline void push_rows(std::size_t h, std::size_t w, const double* l,
-                                             std::size_t ld, const double* s,
-                                             const std::uint32_t* rows, double* y) {
-    constexpr std::size_t block = 8;
-    std::size_t t0 = 0;
-    for (; t0 + block <= h; t0 += block) {
-        const std::uint32_t* r = rows + t0;
-        Lanes top[K], bottom[K];
+[[gnu::always_inline]] inline void dots(std::size_t n, const double* a, const double* s,
+                                        std::size_t w, double* out) {
+    const std::size_t n4 = n - n % 4;
+    Lanes sum[K];
+    for (std::size_t c = 0; c < K; ++c) sum[c] = Lanes{0.0, 0.0, 0.0, 0.0};
+    for (std::size_t t = 0; t < n4; t += 4) {
+        Lanes av;
+        load(av, a + t);
         for (std::size_t c = 0; c < K; ++c) {
-            top[c] = Lanes{y[r[0] * K + c], y[r[1] * K + c], y[r[2] * K + c], y[r[3] * K + c]};
-            bottom[c] = Lanes{y[r[4] * K + c], y[r[5] * K + c], y[r[6] * K + c], y[r[7] * K + c]};
+            Lanes bv;
+            load(bv, s + c * w + t);
+            sum[c] += av * bv;
         }
-        for (std::size_t j = 0; j < w; ++j) {
-            const double* lj = l + t0 + j * ld;
-            Lanes l0, l1;
-            load(l0, lj);
-            load(l1, lj + 4);
-            for (std::size_t c = 0; c < K; ++c) {
-                const double f = s[c * w + j];
-                top[c] -= l0 * f;
-                bottom[c] -= l1 * f;
-            }
-        }
-        for (std::size_t c = 0; c < K; ++c)
-            for (std::size_t lane = 0; lane < 4; ++lane) {
-                y[r[lane] * K + c] = top[c][lane];
-                y[r[lane + 4] * K + c] = bottom[c][lane];
-            }
     }
-    for (std::size_t t = t0; t < h; ++t) {
-        double* yt = y + static_cast<std::size_t>(rows[t]) * K;
-        double acc[K];
-        for (std::size_t c = 0; c < K; ++c) acc[c] = yt[c];
-        for (std::size_t j = 0; j < w; ++j) {
-            const double lt = l[t + j * ld];
-            for (std::size_t c = 0; c < K; ++c) acc[c] -= lt * s[c * w + j];
-        }
-        for (std::size_t c = 0; c < K; ++c) yt[c] = acc[c];
-    }
+    for (std::size_t t = n4; t < n; ++t)
+        for (std::size_t c = 0; c < K; ++c) sum[c][t - n4] += a[t] * s[c * w + t];
+    for (std::size_t c = 0; c < K; ++c) out[c] = (sum[c][0] + sum[c][1]) + (sum[c][2] + sum[c][3]);
 }
 
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
-
-// K = 0: any k, one vector at a time.
-void push_rows_any(std::size_t h, std::size_t w, std::size_t k, const double* l, std::size_t ld,
-                   const double* s, const std::uint32_t* rows, double* y) {
-    for (std::size_t t = 0; t < h; ++t) {
-        double* yt = y + static_cast<std::size_t>(rows[t]) * k;
-        for (std::size_t c = 0; c < k; ++c) {
-            double acc = yt[c];
-            for (std::size_t j = 0; j < w; ++j) acc -= l[t + j * ld] * s[c * w + j];
-            yt[c] = acc;
-        }
-    }
-}
-
-// s[c w + j] −= Σ_t l[t + j ld] below[c h + t] for every own column j, the
-// sum as dot4 makes it; four columns at a time, so that each load of the
-// rows' values serves four columns and each column is read once for all K.
+// y[rows[t] k + c] −= dot4(w, row t of L below, s + c w), t < h: row by
+// row, so that L streams in order.
 template <std::size_t K>
-[[gnu::always_inline]] inline void pull_rows(std::size_t h, std::size_t w, const double* l,
-                                             std::size_t ld, const double* below, double* s) {
-    const std::size_t h4 = h - h % 4;
+[[gnu::always_inline]] inline void push_rows(std::size_t h, std::size_t w, std::size_t k,
+                                             const double* below, const double* s,
+                                             const std::uint32_t* rows, double* y) {
+    for (std::size_t t = 0; t < h; ++t) {
+        double* yt = y + static_cast<std::size_t>(rows[t]) * (K != 0 ? K : k);
+        if constexpr (K != 0) {
+            double d[K];
+            dots<K>(w, below + t * w, s, w, d);
+            for (std::size_t c = 0; c < K; ++c) yt[c] -= d[c];
+        } else {
+            for (std::size_t c = 0; c < k; ++c) yt[c] -= dot4(w, below + t * w, s + c * w);
+        }
+    }
+}
+
+// s[c w + j] −= Σ_t L(w + t, j) y[rows[t] k + c], that sum in four partial
+// sums over t (t mod 4) combined as (s0 + s1) + (s2 + s3): four columns at
+// a time in one register per vector and partial sum, each row of L read in
+// order.
+template <std::size_t K>
+[[gnu::always_inline]] inline void pull_rows(std::size_t h, std::size_t w, std::size_t k,
+                                             const double* below, const std::uint32_t* rows,
+                                             const double* y, double* s) {
+    const std::size_t kk = K != 0 ? K : k;
     constexpr std::size_t columns = 4;
     std::size_t j0 = 0;
-    for (; j0 + columns <= w; j0 += columns) {
-        Lanes sum[columns][K] = {};
-        for (std::size_t t = 0; t < h4; t += 4) {
-            Lanes yv[K];
-            for (std::size_t c = 0; c < K; ++c) load(yv[c], below + c * h + t);
-            for (std::size_t jj = 0; jj < columns; ++jj) {
+    if constexpr (K != 0) {
+        for (; j0 + columns <= w; j0 += columns) {
+            Lanes sum[4][K];
+            for (auto& part : sum)
+                for (Lanes& v : part) v = Lanes{0.0, 0.0, 0.0, 0.0};
+            const auto add_row = [&](Lanes(&part)[K], std::size_t t) {
                 Lanes lv;
-                load(lv, l + t + (j0 + jj) * ld);
-                for (std::size_t c = 0; c < K; ++c) sum[jj][c] += lv * yv[c];
+                load(lv, below + t * w + j0);
+                const double* yt = y + static_cast<std::size_t>(rows[t]) * K;
+                for (std::size_t c = 0; c < K; ++c) part[c] += lv * yt[c];
+            };
+            const std::size_t h4 = h - h % 4;
+            for (std::size_t t = 0; t < h4; t += 4) {
+                add_row(sum[0], t);
+                add_row(sum[1], t + 1);
+                add_row(sum[2], t + 2);
+                add_row(sum[3], t + 3);
             }
-        }
-        for (std::size_t jj = 0; jj < columns; ++jj) {
-            const double* lj = l + (j0 + jj) * ld;
+            for (std::size_t t = h4; t < h; ++t) add_row(sum[t - h4], t);
             for (std::size_t c = 0; c < K; ++c) {
-                Lanes total = sum[jj][c];
-                for (std::size_t t = h4; t < h; ++t) total[t - h4] += lj[t] * below[c * h + t];
-                s[c * w + j0 + jj] -= (total[0] + total[1]) + (total[2] + total[3]);
+                const Lanes total = (sum[0][c] + sum[1][c]) + (sum[2][c] + sum[3][c]);
+                for (std::size_t lane = 0; lane < columns; ++lane)
+                    s[c * w + j0 + lane] -= total[lane];
             }
         }
     }
-    for (; j0 < w; ++j0)
-        for (std::size_t c = 0; c < K; ++c) s[c * w + j0] -= dot4(h, l + j0 * ld, below + c * h);
+    for (; j0 < w; ++j0) {
+        for (std::size_t c = 0; c < kk; ++c) {
+            double sum[4] = {0.0, 0.0, 0.0, 0.0};
+            for (std::size_t t = 0; t < h; ++t)
+                sum[t % 4] += below[t * w + j0] * y[static_cast<std::size_t>(rows[t]) * kk + c];
+            s[c * w + j0] -= (sum[0] + sum[1]) + (sum[2] + sum[3]);
+        }
+    }
 }
 
 template <std::size_t K>
@@ -165,11 +150,12 @@ template <std::size_t K>
                                                 std::size_t k, const double* l,
                                                 const std::uint32_t* rows, double* own, double* y,
                                                 double* scratch) {
+    (void)m;
     const std::size_t kk = K != 0 ? K : k;
     double* s = scratch;
     split_columns<K>(w, kk, own, s);
     for (std::size_t j = 0; j < w; ++j) {
-        const double* lj = l + j * m;
+        const double* lj = l + j * w;
         for (std::size_t c = 0; c < kk; ++c) {
             double* sc = s + c * w;
             const double f = sc[j] /= lj[j];
@@ -177,12 +163,7 @@ template <std::size_t K>
         }
     }
     join_columns<K>(w, kk, s, own);
-    if (push == 0) return;
-    if constexpr (K != 0) {
-        push_rows<K>(push, w, l + w, m, s, rows, y);
-    } else {
-        push_rows_any(push, w, kk, l + w, m, s, rows, y);
-    }
+    if (push > 0) push_rows<K>(push, w, kk, l + w * w, s, rows, y);
 }
 
 template <std::size_t K>
@@ -192,25 +173,12 @@ template <std::size_t K>
     const std::size_t kk = K != 0 ? K : k;
     const std::size_t h = m - w;
     double* s = scratch;
-    double* below = scratch + w * kk;
     split_columns<K>(w, kk, own, s);
-    if (h > 0) {
-        for (std::size_t t = 0; t < h; ++t) {
-            const double* yt = y + static_cast<std::size_t>(rows[t]) * kk;
-            for (std::size_t c = 0; c < kk; ++c) below[c * h + t] = yt[c];
-        }
-        if constexpr (K != 0) {
-            pull_rows<K>(h, w, l + w, m, below, s);
-        } else {
-            for (std::size_t j = 0; j < w; ++j)
-                for (std::size_t c = 0; c < kk; ++c)
-                    s[c * w + j] -= dot4(h, l + w + j * m, below + c * h);
-        }
-    }
+    if (h > 0) pull_rows<K>(h, w, kk, l + w * w, rows, y, s);
     // The K chains of subtractions side by side, so that their latencies
     // overlap.
     for (std::size_t j = w; j-- > 0;) {
-        const double* lj = l + j * m;
+        const double* lj = l + j * w;
         if constexpr (K != 0) {
             double v[K];
             for (std::size_t c = 0; c < K; ++c) v[c] = s[c * w + j];
@@ -274,6 +242,16 @@ void backward_for(std::size_t m, std::size_t w, std::size_t k, const double* l,
 }
 
 }  // namespace
+
+double row_product(std::size_t w, const double* row, const double* own, std::size_t stride) {
+    const std::size_t w4 = w - w % 4;
+    double sum[4] = {0.0, 0.0, 0.0, 0.0};
+    for (std::size_t j = 0; j < w4; j += 4)
+        for (std::size_t lane = 0; lane < 4; ++lane)
+            sum[lane] += row[j + lane] * own[(j + lane) * stride];
+    for (std::size_t j = w4; j < w; ++j) sum[j - w4] += row[j] * own[j * stride];
+    return (sum[0] + sum[1]) + (sum[2] + sum[3]);
+}
 
 void forward(std::size_t m, std::size_t w, std::size_t push, std::size_t k, const double* l,
              const std::uint32_t* rows, double* own, double* y, double* scratch) {

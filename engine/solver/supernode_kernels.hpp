@@ -4,17 +4,19 @@
 #include <cstdint>
 
 // The triangular solves' work on one supernode, for k interleaved vectors
-// (y[i k + c] is entry i of vector c). The supernode is an m×w column-major
-// block L (leading dimension m): its w×w lower-triangular diagonal block on
-// top of h = m − w rows below, which are the factor's rows `rows`. Its own
-// w entries of y start at `own`; `y` is the whole vector.
+// (y[i k + c] is entry i of vector c). The supernode's m×w block L is laid
+// out for the solves (SparseCholesky): its w×w lower-triangular diagonal
+// block column-major (leading dimension w), then the h = m − w rows below,
+// which are the factor's rows `rows`, row by row (w entries each), so that
+// both solves stream L in order. Its own w entries of y start at `own`; `y`
+// is the whole vector.
 //
 // Each kernel moves the supernode's own entries into `scratch` (one
 // contiguous column per vector) so that the diagonal block's work runs on
 // contiguous data, reads L once for all k vectors, and touches the rows
 // below through `rows` directly. Every entry sees the same operations in the
-// same order for every k and every block shape, so the bits do not depend on
-// k or on how the supernodes are shared between threads.
+// same order for every k, so the bits do not depend on k or on how the
+// supernodes are shared between threads.
 namespace dfm::solver::supernode {
 
 // Doubles of scratch the kernels need for a supernode of m rows.
@@ -23,17 +25,23 @@ constexpr std::size_t scratch_size(std::size_t m, std::size_t k) {
 }
 
 // Forward, L y = y: for each column j ascending, y_j /= L(j, j), then every
-// later row i (of the diagonal block, and of the first `push` rows below)
-// subtracts L(i, j) y_j, the terms one by one in column order.
+// later row i of the diagonal block subtracts L(i, j) y_j, the terms one by
+// one in column order; then each of the first `push` rows below subtracts
+// its row's product with the own entries, that sum taken as dot4: four
+// partial sums over j (j mod 4) combined as (s0 + s1) + (s2 + s3).
 void forward(std::size_t m, std::size_t w, std::size_t push, std::size_t k, const double* l,
              const std::uint32_t* rows, double* own, double* y, double* scratch);
 
-// Backward, Lᵀ y = y: each own entry first subtracts Σ_t L(w + t, j) y_rows[t]
-// over the rows below, that sum accumulated in four partial sums over t
-// (t mod 4) combined as (s0 + s1) + (s2 + s3); then, for j descending, it
-// subtracts the terms L(i, j) y_i of the diagonal block one by one, i
-// ascending, and is divided by L(j, j).
+// Backward, Lᵀ y = y: each own entry j first subtracts Σ_t L(w + t, j)
+// y_rows[t] over the rows below, that sum accumulated in four partial sums
+// over t (t mod 4) combined as (s0 + s1) + (s2 + s3); then, for j
+// descending, it subtracts the terms L(i, j) y_i of the diagonal block one
+// by one, i ascending, and is divided by L(j, j).
 void backward(std::size_t m, std::size_t w, std::size_t k, const double* l,
               const std::uint32_t* rows, double* own, const double* y, double* scratch);
+
+// The product of a row below with own entries held `stride` apart, the sum
+// taken as the forward solve's push takes it (the same bits).
+double row_product(std::size_t w, const double* row, const double* own, std::size_t stride);
 
 }  // namespace dfm::solver::supernode
