@@ -629,6 +629,7 @@ bool Editor::save_scenario(const std::string& path) const {
     json.field("tolerance", solver_.tolerance);
     json.field("max_iterations", solver_.max_iterations);
     json.field("handle_weight", solver_.handle_weight);
+    json.field("method", solver_.method == DFM_METHOD_PAPER ? "paper" : "fitted_rotations");
     json.end_object();
     json.key("roi").begin_object().key("water_fill").begin_object();
     json.field("first", first_).field("last", last_);
