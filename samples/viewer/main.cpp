@@ -24,26 +24,32 @@
 
 namespace {
 
-viewer::InputRouter& router_of(GLFWwindow* window) {
-    return *static_cast<viewer::InputRouter*>(glfwGetWindowUserPointer(window));
+// Input while the window's session runs; none after it.
+viewer::InputRouter* router_of(GLFWwindow* window) {
+    return static_cast<viewer::InputRouter*>(glfwGetWindowUserPointer(window));
 }
 
 void install_callbacks(GLFWwindow* window) {
     glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
         double x = 0, y = 0;
         glfwGetCursorPos(w, &x, &y);
-        router_of(w).button(button, action, mods, x, y);
+        if (viewer::InputRouter* r = router_of(w)) r->button(button, action, mods, x, y);
     });
-    glfwSetCursorPosCallback(window,
-                             [](GLFWwindow* w, double x, double y) { router_of(w).cursor(x, y); });
-    glfwSetScrollCallback(window,
-                          [](GLFWwindow* w, double dx, double dy) { router_of(w).scroll(dx, dy); });
+    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
+        if (viewer::InputRouter* r = router_of(w)) r->cursor(x, y);
+    });
+    glfwSetScrollCallback(window, [](GLFWwindow* w, double dx, double dy) {
+        if (viewer::InputRouter* r = router_of(w)) r->scroll(dx, dy);
+    });
     glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int mods) {
-        router_of(w).key(key, action, mods);
+        if (viewer::InputRouter* r = router_of(w)) r->key(key, action, mods);
     });
-    glfwSetCharCallback(window, [](GLFWwindow* w, unsigned int c) { router_of(w).character(c); });
-    glfwSetFramebufferSizeCallback(
-        window, [](GLFWwindow* w, int width, int height) { router_of(w).resize(width, height); });
+    glfwSetCharCallback(window, [](GLFWwindow* w, unsigned int c) {
+        if (viewer::InputRouter* r = router_of(w)) r->character(c);
+    });
+    glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int width, int height) {
+        if (viewer::InputRouter* r = router_of(w)) r->resize(width, height);
+    });
 }
 
 // Presents one frame; with `screenshot` set it also reads the presented
@@ -125,6 +131,8 @@ int run(GLFWwindow* window, dfm_context* context, dfm_vk_renderer* renderer,
         status = 1;
     }
     std::printf("%s\n", title.c_str());
+    // The router dies with this function; the window lives on a little.
+    glfwSetWindowUserPointer(window, nullptr);
     return status;
 }
 
