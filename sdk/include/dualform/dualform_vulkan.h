@@ -220,7 +220,8 @@ typedef struct dfm_vk_overlay_target {
                                        VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT */
     VkImageView image_view;         /* a 2D colour view of `image` (a framebuffer's attachment) */
     VkFormat format;                /* the swapchain's format */
-    uint32_t width, height;         /* the image's size in pixels */
+    uint32_t width;                 /* the image's width in pixels */
+    uint32_t height;                /* and its height */
     uint32_t image_index;           /* which swapchain image: 0 .. image_count - 1 */
     uint32_t image_count;           /* the swapchain's images */
     uint64_t swapchain_generation;  /* grows each time the swapchain is rebuilt (a resize):
