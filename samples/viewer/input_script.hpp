@@ -15,7 +15,8 @@ namespace viewer {
 //                                escape, backspace, [, ], f1, or ctrl+LETTER
 //   panel-click CONTROL          a click at the centre of a panel control
 //                                (its script name: bake, undo, save, ...)
-//   panel-type CONTROL TEXT      a click into a panel field, TEXT typed, Enter
+//   panel-type CONTROL TEXT      a click into a panel field, TEXT typed (each
+//                                letter's key pressed and released with it), Enter
 //   wait                         hold the script until the edit's newest
 //                                targets have their finished result
 //   screenshot FILE.png          the window's picture as presented, panel included

@@ -3,6 +3,7 @@
 #include <GLFW/glfw3.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 
@@ -53,7 +54,16 @@ bool ScriptPlayer::run_step(Step& s, bool& failed) {
         case Step::Kind::key_down: router_.key(s.code, GLFW_PRESS, s.mods); break;
         case Step::Kind::key_up: router_.key(s.code, GLFW_RELEASE, s.mods); break;
         case Step::Kind::text:
-            for (const char c : s.text) router_.character(static_cast<unsigned char>(c));
+            // As a keyboard types: a letter's key goes down and up around its
+            // character, so a field that has the keyboard must keep the
+            // letter from being a shortcut.
+            for (const char c : s.text) {
+                const bool letter = std::isalpha(static_cast<unsigned char>(c)) != 0;
+                const int key = GLFW_KEY_A + (std::tolower(static_cast<unsigned char>(c)) - 'a');
+                if (letter) router_.key(key, GLFW_PRESS, 0);
+                router_.character(static_cast<unsigned char>(c));
+                if (letter) router_.key(key, GLFW_RELEASE, 0);
+            }
             break;
     }
     return true;
