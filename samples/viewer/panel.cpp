@@ -162,8 +162,9 @@ void Panel::draw_solver(double frame_ms) {
         ImGui::Text("setting up the system...");
         return;
     }
-    ImGui::Text("solve %llu: %u iterations, %.2f ms", static_cast<unsigned long long>(f.generation),
-                f.iterations, f.solve_ms);
+    ImGui::Text("solve %llu: %u iteration%s, %.2f ms",
+                static_cast<unsigned long long>(f.generation), f.iterations,
+                f.iterations == 1 ? "" : "s", f.solve_ms);
     const ImVec4 amber(1.0f, 0.8f, 0.3f, 1.0f), green(0.45f, 0.9f, 0.45f, 1.0f);
     if (f.partial) {
         ImGui::TextColored(amber, "preview: newer targets waiting");
