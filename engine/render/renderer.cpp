@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string>
 #include <utility>
 
 namespace dfm::render {
@@ -231,11 +232,13 @@ RenderStatus Renderer::rebuild_swapchain(bool& usable) {
         return s;
     }
     swapchain_ = std::move(next);
+    ++swapchain_generation_;
     usable = true;
     return RenderStatus::ok();
 }
 
-RenderStatus Renderer::present(const ViewSettings& view, bool& presented) {
+RenderStatus Renderer::present(const ViewSettings& view, bool& presented,
+                               std::span<std::uint8_t> rgba) {
     presented = false;
     if (RenderStatus s = check_usable(); !s) return s;
     if (!window_extent_) {
@@ -248,6 +251,31 @@ RenderStatus Renderer::present(const ViewSettings& view, bool& presented) {
         bool usable = false;
         if (RenderStatus s = rebuild_swapchain(usable); !s) return broken(s);
         if (!usable) return RenderStatus::ok();
+    }
+    const VkExtent2D shown_extent = swapchain_->extent();
+    const std::size_t picture_bytes = std::size_t{shown_extent.width} * shown_extent.height * 4;
+    if (!rgba.empty()) {
+        if (!swapchain_->readable()) {
+            return RenderStatus(Fault::unsupported,
+                                "this window's surface does not let its pictures be read");
+        }
+        if (rgba.size() != picture_bytes) {
+            return RenderStatus(Fault::invalid_argument,
+                                "the window's picture is " + std::to_string(shown_extent.width) +
+                                    " x " + std::to_string(shown_extent.height) +
+                                    ": the pixel buffer must hold " +
+                                    std::to_string(picture_bytes) + " bytes");
+        }
+        if (window_readback_.handle() == VK_NULL_HANDLE ||
+            window_readback_.size() != picture_bytes) {
+            GpuBuffer readback;
+            if (RenderStatus s = GpuBuffer::create(
+                    gpu_, picture_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, readback);
+                !s) {
+                return s;
+            }
+            window_readback_ = std::move(readback);
+        }
     }
     if (RenderStatus s = frames_.wait_current(); !s) return broken(s);
     std::uint32_t image = 0;
@@ -268,10 +296,36 @@ RenderStatus Renderer::present(const ViewSettings& view, bool& presented) {
     swapchain_->record_begin(cmd, image, &view.background[0]);
     record_scene_draw(cmd, pipelines_, draw_buffers(slot), view, scene_.bounds(),
                       swapchain_->extent());
-    swapchain_->record_end(cmd, image);
+    swapchain_->record_end_rendering(cmd, image);
+    // A failing overlay still lets the frame finish (the acquired image must
+    // be presented); its status is the call's.
+    RenderStatus overlaid = RenderStatus::ok();
+    if (overlay_) {
+        OverlayTarget target;
+        target.cmd = cmd;
+        target.image = swapchain_->image(image);
+        target.view = swapchain_->view(image);
+        target.format = swapchain_->format();
+        target.extent = swapchain_->extent();
+        target.image_index = image;
+        target.image_count = swapchain_->image_count();
+        target.swapchain_generation = swapchain_generation_;
+        overlaid = overlay_(target);
+    }
+    const bool copy = !rgba.empty();
+    if (copy) swapchain_->record_copy(cmd, image, window_readback_.handle());
+    swapchain_->record_present_ready(cmd, image, copy);
     const VkSemaphore rendered = swapchain_->rendered(image);
     if (RenderStatus s = frames_.submit_current(frames_.acquired(), rendered); !s) {
         return broken(s);
+    }
+    if (copy) {
+        if (RenderStatus s = frames_.wait_current(); !s) return broken(s);
+        std::memcpy(rgba.data(), window_readback_.mapped(), picture_bytes);
+        if (swapchain_->format() == VK_FORMAT_B8G8R8A8_UNORM ||
+            swapchain_->format() == VK_FORMAT_B8G8R8A8_SRGB) {
+            for (std::size_t i = 0; i + 3 < rgba.size(); i += 4) std::swap(rgba[i], rgba[i + 2]);
+        }
     }
     frames_.advance();
 
@@ -290,7 +344,7 @@ RenderStatus Renderer::present(const ViewSettings& view, bool& presented) {
     }
     if (shown != VK_SUCCESS) return broken(vk_failure(shown, "vkQueuePresentKHR"));
     presented = true;
-    return RenderStatus::ok();
+    return overlaid;
 }
 
 RenderStatus Renderer::record_upload(VkCommandBuffer cmd) {

@@ -36,6 +36,23 @@ struct WindowSurface {
     std::function<VkExtent2D()> framebuffer_extent;
 };
 
+// Where a host records its own drawing into a window frame, after the mesh:
+// the swapchain image, a colour attachment in COLOR_ATTACHMENT_OPTIMAL that
+// the host leaves in that layout.
+struct OverlayTarget {
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VkImage image = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+    VkExtent2D extent{};
+    std::uint32_t image_index = 0;
+    std::uint32_t image_count = 0;
+    // Grows whenever the swapchain is rebuilt: what the host made for the
+    // images of an older one (framebuffers) is stale.
+    std::uint64_t swapchain_generation = 0;
+};
+using Overlay = std::function<RenderStatus(const OverlayTarget&)>;
+
 // Settings of a renderer that creates its own instance and device.
 struct OwnDeviceOptions {
     std::size_t frames_in_flight = 2;
@@ -83,9 +100,19 @@ public:
     RenderStatus render_offscreen(const ViewSettings& view, std::span<std::uint8_t> rgba);
 
     // Window path: draws and presents one frame at the window's framebuffer
-    // size (the camera's width and height are ignored). `presented` is false
-    // when the window is minimised or the swapchain had to be rebuilt.
-    RenderStatus present(const ViewSettings& view, bool& presented);
+    // size (the camera's width and height are ignored), the overlay (if set)
+    // drawn after the mesh. `presented` is false when the window is minimised
+    // or the swapchain had to be rebuilt. With `rgba` (width x height x 4
+    // bytes of the window's picture) it waits for the frame and copies what
+    // it presented, overlay included, into it (RGBA, rows top to bottom).
+    RenderStatus present(const ViewSettings& view, bool& presented,
+                         std::span<std::uint8_t> rgba = {});
+    // Window path: called inside every present, after the mesh's draw. An
+    // empty function removes it.
+    void set_overlay(Overlay overlay) { overlay_ = std::move(overlay); }
+    bool has_window() const { return static_cast<bool>(window_extent_); }
+    const Gpu& gpu() const { return gpu_; }
+    std::size_t frames_in_flight() const { return uploader_.slot_count(); }
 
     // Host path: the vertex upload (outside rendering), then the draw (inside
     // the host's dynamic rendering of `extent`). Each record_upload moves to
@@ -138,6 +165,9 @@ private:
     std::vector<RetiredBuffer> retired_indices_;
     std::optional<OffscreenTarget> offscreen_;
     std::unique_ptr<Swapchain> swapchain_;
+    std::uint64_t swapchain_generation_ = 0;
+    Overlay overlay_;
+    GpuBuffer window_readback_;
     SceneData scene_;
 };
 

@@ -65,7 +65,12 @@ Vec3 apply(const Matrix& m, const Vec3& p) {
 }  // namespace
 
 Editor::Editor(dfm_context* context, dfm_vk_renderer* renderer)
-    : context_(context), renderer_(renderer) {}
+    : context_(context), renderer_(renderer) {
+    solver_.tolerance = 1e-5;
+    solver_.max_iterations = 100;
+    solver_.handle_weight = 1.0;
+    solver_.method = DFM_METHOD_FITTED_ROTATIONS;
+}
 
 Editor::~Editor() {
     dfm_session_destroy(session_);
@@ -75,17 +80,22 @@ Editor::~Editor() {
 
 bool Editor::report(dfm_result result, const char* call) const {
     if (result == DFM_OK) return true;
-    std::fprintf(stderr, "viewer: %s: %s: %s\n", call, dfm_result_name(result),
-                 dfm_last_error_message());
+    last_error_ =
+        std::string(call) + ": " + dfm_result_name(result) + ": " + dfm_last_error_message();
+    std::fprintf(stderr, "viewer: %s\n", last_error_.c_str());
     return false;
 }
 
 bool Editor::open(const std::string& mesh_spec, int width, int height) {
+    dfm_mesh* mesh = nullptr;
+    if (!report(dfm_mesh_load(context_, mesh_spec.c_str(), &mesh), "dfm_mesh_load")) return false;
+    return open_loaded(mesh, mesh_spec, width, height);
+}
+
+bool Editor::open_loaded(dfm_mesh* mesh, const std::string& mesh_spec, int width, int height) {
+    mesh_ = mesh;
     mesh_spec_ = mesh_spec;
-    if (!report(dfm_mesh_load(context_, mesh_spec.c_str(), &mesh_), "dfm_mesh_load") ||
-        !report(dfm_mesh_get_info(mesh_, &info_), "dfm_mesh_get_info")) {
-        return false;
-    }
+    if (!report(dfm_mesh_get_info(mesh_, &info_), "dfm_mesh_get_info")) return false;
     indices_.resize(3 * info_.triangle_count);
     dfm_mesh_read_indices(mesh_, indices_.data(), indices_.size());
     reload_rest_pose();
@@ -103,6 +113,18 @@ bool Editor::open(const std::string& mesh_spec, int width, int height) {
     camera_.set_viewport(width, height);
     display_changed_ = false;
     return true;
+}
+
+bool Editor::reopen(const std::string& mesh_spec) {
+    dfm_mesh* next = nullptr;
+    if (!report(dfm_mesh_load(context_, mesh_spec.c_str(), &next), "dfm_mesh_load")) return false;
+    cancel_selection();
+    dfm_mesh_destroy(mesh_);
+    mesh_ = nullptr;
+    bakes_ = 0;
+    const dfm_camera view = camera_.camera();
+    return open_loaded(next, mesh_spec, static_cast<int>(view.width),
+                       static_cast<int>(view.height));
 }
 
 void Editor::reload_rest_pose() {
@@ -282,6 +304,7 @@ bool Editor::ensure_session() {
     desc.roi = roi_;
     desc.groups = groups.data();
     desc.group_count = groups.size();
+    desc.solver = solver_;
     if (!report(dfm_session_create(mesh_, &desc, &session_), "dfm_session_create")) return false;
     submitted_ = shown_ = 0;
     transforms_dirty_ = true;
@@ -318,6 +341,7 @@ void Editor::reset_transforms() {
 void Editor::bake() {
     if (session_ == nullptr) return;
     if (!report(dfm_session_bake(session_), "dfm_session_bake")) return;
+    ++bakes_;
     // The session restarted on the baked pose with identity transforms.
     transforms_.assign(groups_.size(), identity());
     transforms_dirty_ = false;
@@ -331,6 +355,7 @@ void Editor::undo_or_redo(bool undo) {
     const dfm_result r = undo ? dfm_mesh_undo_bake(mesh_) : dfm_mesh_redo_bake(mesh_);
     if (r == DFM_ERROR_NOT_FOUND) return;
     if (!report(r, undo ? "dfm_mesh_undo_bake" : "dfm_mesh_redo_bake")) return;
+    bakes_ = undo ? bakes_ - std::min<std::size_t>(bakes_, 1) : bakes_ + 1;
     transforms_.assign(groups_.size(), identity());
     reload_rest_pose();
     refresh_lines();
@@ -349,8 +374,6 @@ void Editor::key(const std::string& name) {
         undo_or_redo(false);
     } else if (name == "r" || name == "backspace") {
         reset_transforms();
-    } else if (name == "s") {
-        save_mesh(mesh_output_);
     } else if (name == "e") {
         save_scenario("viewer_edit.json");
     } else if (name == "w") {
@@ -514,9 +537,54 @@ bool Editor::write_screenshot(const std::string& path) {
                   "dfm_vk_write_png");
 }
 
+bool Editor::has_unbaked_edit() const {
+    if (session_ == nullptr) return false;
+    return std::any_of(transforms_.begin(), transforms_.end(),
+                       [](const Matrix& m) { return m != identity(); });
+}
+
 bool Editor::save_mesh(const std::string& path) {
-    bake();
-    return report(dfm_mesh_save(mesh_, path.c_str()), "dfm_mesh_save");
+    if (has_unbaked_edit()) bake();
+    dfm_save_options options = {};
+    options.struct_size = sizeof options;
+    return report(dfm_mesh_save_with_options(mesh_, path.c_str(), &options),
+                  "dfm_mesh_save_with_options");
+}
+
+bool Editor::set_solver(const dfm_solver_settings& settings) {
+    if (settings.tolerance <= 0.0 || !std::isfinite(settings.tolerance) ||
+        settings.max_iterations == 0 || settings.handle_weight <= 0.0 ||
+        !std::isfinite(settings.handle_weight)) {
+        last_error_ = "solver: the tolerance, iteration cap and handle weight must be positive";
+        return false;
+    }
+    const bool fixed_changed = settings.handle_weight != solver_.handle_weight ||
+                               settings.hard_handles != solver_.hard_handles ||
+                               settings.method != solver_.method;
+    const dfm_solver_settings previous = solver_;
+    solver_ = settings;
+    if (session_ == nullptr) return true;
+    if (fixed_changed) {
+        // Fixed at creation: the same edit goes on in a new session.
+        end_session();
+        return ensure_session();
+    }
+    dfm_solver_settings change = {};
+    change.tolerance = settings.tolerance;
+    change.max_iterations = settings.max_iterations;
+    if (!report(dfm_session_set_solver(session_, &change), "dfm_session_set_solver")) {
+        solver_ = previous;
+        return false;
+    }
+    // The shown frame met the old tolerance: solve the same targets again.
+    transforms_dirty_ = true;
+    return true;
+}
+
+bool Editor::solve_report(dfm_solve_report& out) const {
+    out = {};
+    if (session_ == nullptr) return false;
+    return dfm_session_get_solve_report(session_, &out, nullptr) == DFM_OK;
 }
 
 namespace {
@@ -557,6 +625,12 @@ bool Editor::save_scenario(const std::string& path) const {
     json.begin_object();
     json.field("description", "saved by the Dualform viewer");
     json.field("mesh", mesh_spec_);
+    json.key("solver").begin_object();
+    json.field("tolerance", solver_.tolerance);
+    json.field("max_iterations", solver_.max_iterations);
+    json.field("handle_weight", solver_.handle_weight);
+    json.field("method", solver_.method == DFM_METHOD_PAPER ? "paper" : "fitted_rotations");
+    json.end_object();
     json.key("roi").begin_object().key("water_fill").begin_object();
     json.field("first", first_).field("last", last_);
     json.end_object().end_object();

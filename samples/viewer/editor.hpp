@@ -26,6 +26,9 @@ public:
 
     // Loads the mesh and frames it; false with the SDK's message on stderr.
     bool open(const std::string& mesh_spec, int width, int height);
+    // Replaces the mesh (selection and edit dropped), keeping the view's
+    // size; the old mesh stays when the new one cannot be loaded.
+    bool reopen(const std::string& mesh_spec);
 
     void resize(int width, int height);
     void press(Button button, double x, double y, bool shift);
@@ -43,8 +46,37 @@ public:
     bool save_scenario(const std::string& path) const;
     // The view as the camera JSON of docs/scenarios.md (for `dualform render`).
     bool save_camera(const std::string& path) const;
+    // Bakes an unbaked edit, then writes the mesh; the format follows the
+    // extension (dfm_mesh_save_with_options).
     bool save_mesh(const std::string& path);
     void set_mesh_output(const std::string& path) { mesh_output_ = path; }
+    const std::string& mesh_output() const { return mesh_output_; }
+    const std::string& mesh_spec() const { return mesh_spec_; }
+
+    void bake();
+    void undo_or_redo(bool undo);
+    void reset_transforms();
+
+    // The solver settings the next solves use. Tolerance and the iteration
+    // cap reach a running session through dfm_session_set_solver; the
+    // settings fixed at a session's creation (handle weight, hard handles,
+    // method) start a new session on the same edit.
+    const dfm_solver_settings& solver() const { return solver_; }
+    bool set_solver(const dfm_solver_settings& settings);
+
+    // What the panel shows.
+    const dfm_mesh_info& mesh_info() const { return info_; }
+    std::size_t roi_size() const { return roi_vertices_.size(); }
+    const dfm_water_fill_diagnosis& diagnosis() const { return diagnosis_; }
+    const std::vector<std::vector<std::uint32_t>>& groups() const { return groups_; }
+    const dfm_frame_info& last_frame() const { return last_info_; }
+    bool has_session() const { return session_ != nullptr; }
+    // The newest frame's solve report; false without a session.
+    bool solve_report(dfm_solve_report& out) const;
+    double handle_radius() const { return handle_radius_; }
+    std::size_t bakes() const { return bakes_; }
+    // The last failure's text ("" when none yet), also printed on stderr.
+    const std::string& last_error() const { return last_error_; }
 
     // True when no targets are waiting for their finished result.
     bool settled() const;
@@ -56,6 +88,7 @@ public:
 private:
     using Matrix = std::array<double, 16>;
 
+    bool open_loaded(dfm_mesh* mesh, const std::string& mesh_spec, int width, int height);
     void click(double x, double y);
     void pick_endpoint(double x, double y);
     void add_handle(double x, double y);
@@ -64,9 +97,7 @@ private:
     bool ensure_session();
     void end_session();
     void cancel_selection();
-    void bake();
-    void undo_or_redo(bool undo);
-    void reset_transforms();
+    bool has_unbaked_edit() const;
     void reload_rest_pose();
     void refresh_marks();
     void refresh_lines();
@@ -99,6 +130,9 @@ private:
     std::uint64_t submitted_ = 0;
     std::uint64_t shown_ = 0;
     dfm_frame_info last_info_{};
+    dfm_solver_settings solver_{};
+    std::size_t bakes_ = 0;
+    mutable std::string last_error_;
 
     // Pointer state: a press becomes a click unless it moves a handle group.
     bool left_down_ = false;

@@ -17,7 +17,8 @@ bool arity_of(const std::string& name, Arity& out) {
     static const std::pair<const char*, Arity> table[] = {
         {"click", {2, 0}},         {"drag", {5, 1}},        {"key", {1, 0}},
         {"wait", {0, 0}},          {"quit", {0, 0}},        {"screenshot", {1, 0}},
-        {"save-scenario", {1, 0}}, {"save-camera", {1, 0}},
+        {"save-scenario", {1, 0}}, {"save-camera", {1, 0}}, {"screenshot-mesh", {1, 0}},
+        {"panel-click", {1, 0}},   {"panel-type", {2, 0}},
     };
     for (const auto& [event, arity] : table) {
         if (name == event) {

@@ -13,7 +13,10 @@
  * - a window: its own instance and device, and a swapchain on the window's
  *   surface, through the host's window system (dfm_vk_window); this library
  *   links none, and dualform_vulkan_glfw.h is a small backend for GLFW
- *   (dfm_vk_renderer_present);
+ *   (dfm_vk_renderer_present); the host may record its own drawing (a user
+ *   interface) into each window frame after the mesh
+ *   (dfm_vk_renderer_set_overlay) and read the presented picture back
+ *   (dfm_vk_renderer_present_and_read);
  * - the host's device: the host hands its instance, physical device, device,
  *   queue family and queue; the renderer records its upload and draw into the
  *   host's command buffer, inside the host's Vulkan 1.3 dynamic rendering.
@@ -198,6 +201,89 @@ DFM_API dfm_result dfm_vk_renderer_render_offscreen(dfm_vk_renderer* renderer,
  * window. Call from the window's thread; not thread-safe. */
 DFM_API dfm_result dfm_vk_renderer_present(dfm_vk_renderer* renderer, const dfm_vk_frame* frame,
                                            bool* presented);
+
+/* ------------------------------------------------------------ window overlay
+ * A window renderer owns its frame, but the host may draw into it: an overlay
+ * (a user interface, a heads-up display) recorded after the mesh into the
+ * same command buffer and swapchain image, then presented with it. */
+
+/* Where the overlay draws, handed to dfm_vk_overlay_fn for each frame. */
+typedef struct dfm_vk_overlay_target {
+    uint32_t struct_size;           /* sizeof this struct as the library has it; fields only
+                                       ever appear at the end */
+    VkCommandBuffer command_buffer; /* recording, outside any rendering; the renderer's: record
+                                       into it, never submit, end or reset it */
+    VkImage image;                  /* the swapchain image, the mesh drawn (resolved when
+                                       multisampled), in VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL
+                                       with the mesh's writes visible to colour-attachment reads
+                                       and writes; leave it in that layout, written at
+                                       VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT */
+    VkImageView image_view;         /* a 2D colour view of `image` (a framebuffer's attachment) */
+    VkFormat format;                /* the swapchain's format */
+    uint32_t width;                 /* the image's width in pixels */
+    uint32_t height;                /* and its height */
+    uint32_t image_index;           /* which swapchain image: 0 .. image_count - 1 */
+    uint32_t image_count;           /* the swapchain's images */
+    uint64_t swapchain_generation;  /* grows each time the swapchain is rebuilt (a resize):
+                                       views and framebuffers kept from an older one are stale */
+} dfm_vk_overlay_target;
+
+/* Records the host's drawing into target->command_buffer; called from inside
+ * dfm_vk_renderer_present / dfm_vk_renderer_present_and_read on their thread.
+ * It must not call the renderer. A result other than DFM_OK still lets the
+ * frame be presented, and becomes that call's result. */
+typedef dfm_result (*dfm_vk_overlay_fn)(void* user, const dfm_vk_overlay_target* target);
+
+/* An overlay for dfm_vk_renderer_set_overlay; zero: none. */
+typedef struct dfm_vk_overlay_desc {
+    uint32_t struct_size;     /* sizeof(dfm_vk_overlay_desc); see dualform.h's conventions */
+    dfm_vk_overlay_fn record; /* NULL: no overlay */
+    void* user;               /* passed to `record`; must outlive the overlay */
+} dfm_vk_overlay_desc;
+
+/* Window renderers: sets (or with desc->record NULL, removes) the overlay
+ * every later present records after the mesh. The overlay's Vulkan objects
+ * are the host's, made on the renderer's device (dfm_vk_renderer_get_device);
+ * the host destroys them after vkDeviceWaitIdle on that device and before
+ * dfm_vk_renderer_destroy. DFM_ERROR_UNSUPPORTED on a renderer without a
+ * window; DFM_ERROR_INVALID_ARGUMENT for a NULL desc. Not thread-safe. */
+DFM_API dfm_result dfm_vk_renderer_set_overlay(dfm_vk_renderer* renderer,
+                                               const dfm_vk_overlay_desc* desc);
+
+/* The Vulkan objects of a renderer's device, for a host that makes its own
+ * objects on it (an overlay's pipeline, descriptor pool). All stay the
+ * renderer's: never destroy them. The host may submit to `queue` only from
+ * the thread that uses the renderer, between its calls. */
+typedef struct dfm_vk_device_info {
+    uint32_t struct_size;             /* the caller sets sizeof(dfm_vk_device_info); the library
+                                         writes only that many bytes (see the conventions) */
+    VkInstance instance;              /* the renderer's or the host's instance */
+    VkPhysicalDevice physical_device; /* the device's physical device */
+    VkDevice device;                  /* Vulkan 1.3 */
+    uint32_t queue_family;            /* the family of `queue` */
+    VkQueue queue;                    /* the queue the renderer submits on */
+    uint32_t frames_in_flight;        /* frames the renderer keeps in flight */
+    uint32_t samples;                 /* its MSAA sample count (1: none); an overlay draws
+                                         after the resolve, single-sampled */
+} dfm_vk_device_info;
+
+/* Fills *out (the caller's, struct_size set) for any renderer.
+ * DFM_ERROR_INVALID_ARGUMENT for NULL; DFM_ERROR_UNSUPPORTED for a larger
+ * struct whose unknown bytes are set. Thread-safe. */
+DFM_API dfm_result dfm_vk_renderer_get_device(const dfm_vk_renderer* renderer,
+                                              dfm_vk_device_info* out);
+
+/* Window renderers: dfm_vk_renderer_present, and then waits for the frame
+ * and copies the picture it presented, overlay included, into `rgba`
+ * (rgba_size = width * height * 4 bytes of the window's framebuffer, rows
+ * top to bottom, RGBA8): a screenshot of the window. When *presented is
+ * false (minimised, swapchain just rebuilt) rgba's contents are
+ * unspecified. DFM_ERROR_INVALID_ARGUMENT for another size (the message
+ * gives the picture's); DFM_ERROR_UNSUPPORTED without a window or on a
+ * surface whose images cannot be copied from. Not thread-safe. */
+DFM_API dfm_result dfm_vk_renderer_present_and_read(dfm_vk_renderer* renderer,
+                                                    const dfm_vk_frame* frame, uint8_t* rgba,
+                                                    size_t rgba_size, bool* presented);
 
 /* Host renderers: records the copy of this frame's vertices into the host's
  * command buffer `cmd` (recording, outside any rendering). Each call uses the

@@ -1,6 +1,9 @@
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "camera_convert.hpp"
@@ -18,6 +21,8 @@ struct dfm_vk_renderer {
     static constexpr std::uint64_t live_tag = 0x6466'6d5f'766b'7231ULL;
     std::uint64_t tag = live_tag;
     std::unique_ptr<dfm::render::Renderer> impl;
+    // What the host's overlay function returned in the present running now.
+    dfm_result overlay_result = DFM_OK;
 };
 
 namespace {
@@ -87,6 +92,32 @@ dfm_result to_view(const char* function, const dfm_vk_frame* frame, std::uint32_
     const float* bg = frame->background;
     if (bg[0] != 0.0f || bg[1] != 0.0f || bg[2] != 0.0f || bg[3] != 0.0f) {
         view.background = {bg[0], bg[1], bg[2], bg[3]};
+    }
+    return DFM_OK;
+}
+
+// What struct_size 0 stands for: the structs as they appeared (0.3).
+constexpr std::size_t overlay_desc_first = sizeof(dfm_vk_overlay_desc);
+constexpr std::size_t device_info_first = sizeof(dfm_vk_device_info);
+
+// Both present calls: the frame, the overlay's own result over the renderer's.
+dfm_result present_frame(const char* fn, dfm_vk_renderer* renderer, const dfm_vk_frame* frame,
+                         std::span<std::uint8_t> rgba, bool* presented) {
+    if (presented != nullptr) *presented = false;
+    if (!live(renderer)) return bad_handle(fn);
+    render::ViewSettings view;
+    // The real size comes from the window; 1x1 only lets the camera check pass.
+    if (dfm_result r = to_view(fn, frame, 1, 1, view); r != DFM_OK) return r;
+    bool shown = false;
+    renderer->overlay_result = DFM_OK;
+    if (render::RenderStatus s = renderer->impl->present(view, shown, rgba); !s) {
+        return report_render(fn, s);
+    }
+    if (presented != nullptr) *presented = shown;
+    if (renderer->overlay_result != DFM_OK) {
+        return report(fn, renderer->overlay_result,
+                      std::string("the overlay's record function returned ") +
+                          dfm_result_name(renderer->overlay_result));
     }
     return DFM_OK;
 }
@@ -299,17 +330,85 @@ DFM_API dfm_result dfm_vk_renderer_render_offscreen(dfm_vk_renderer* renderer,
 DFM_API dfm_result dfm_vk_renderer_present(dfm_vk_renderer* renderer, const dfm_vk_frame* frame,
                                            bool* presented) {
     const char* fn = "dfm_vk_renderer_present";
+    return guarded(
+        fn, [&]() -> dfm_result { return present_frame(fn, renderer, frame, {}, presented); });
+}
+
+DFM_API dfm_result dfm_vk_renderer_present_and_read(dfm_vk_renderer* renderer,
+                                                    const dfm_vk_frame* frame, uint8_t* rgba,
+                                                    size_t rgba_size, bool* presented) {
+    const char* fn = "dfm_vk_renderer_present_and_read";
     return guarded(fn, [&]() -> dfm_result {
         if (presented != nullptr) *presented = false;
-        if (!live(renderer)) return bad_handle(fn);
-        render::ViewSettings view;
-        // The real size comes from the window; 1x1 only lets the camera check pass.
-        if (dfm_result r = to_view(fn, frame, 1, 1, view); r != DFM_OK) return r;
-        bool shown = false;
-        if (render::RenderStatus s = renderer->impl->present(view, shown); !s) {
-            return report_render(fn, s);
+        if (rgba == nullptr || rgba_size == 0) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "rgba is NULL or rgba_size is 0");
         }
-        if (presented != nullptr) *presented = shown;
+        return present_frame(fn, renderer, frame, {rgba, rgba_size}, presented);
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_set_overlay(dfm_vk_renderer* renderer,
+                                               const dfm_vk_overlay_desc* desc) {
+    const char* fn = "dfm_vk_renderer_set_overlay";
+    return guarded(fn, [&]() -> dfm_result {
+        if (!live(renderer)) return bad_handle(fn);
+        dfm_vk_overlay_desc overlay;
+        if (dfm_result r = dfm::sdk::read_descriptor(fn, "desc", desc, overlay_desc_first, overlay);
+            r != DFM_OK) {
+            return r;
+        }
+        if (!renderer->impl->has_window()) {
+            return report(fn, DFM_ERROR_UNSUPPORTED,
+                          "an overlay needs a renderer made for a window");
+        }
+        if (overlay.record == nullptr) {
+            renderer->impl->set_overlay({});
+            return DFM_OK;
+        }
+        dfm_result* result = &renderer->overlay_result;
+        renderer->impl->set_overlay([overlay, result](const render::OverlayTarget& t) {
+            dfm_vk_overlay_target target = {};
+            target.struct_size = sizeof target;
+            target.command_buffer = t.cmd;
+            target.image = t.image;
+            target.image_view = t.view;
+            target.format = t.format;
+            target.width = t.extent.width;
+            target.height = t.extent.height;
+            target.image_index = t.image_index;
+            target.image_count = t.image_count;
+            target.swapchain_generation = t.swapchain_generation;
+            *result = overlay.record(overlay.user, &target);
+            return render::RenderStatus::ok();
+        });
+        return DFM_OK;
+    });
+}
+
+DFM_API dfm_result dfm_vk_renderer_get_device(const dfm_vk_renderer* renderer,
+                                              dfm_vk_device_info* out) {
+    const char* fn = "dfm_vk_renderer_get_device";
+    return guarded(fn, [&]() -> dfm_result {
+        dfm_vk_device_info info;
+        if (dfm_result r = dfm::sdk::read_descriptor(fn, "out", out, device_info_first, info);
+            r != DFM_OK) {
+            return r;
+        }
+        // The host's struct_size says how many bytes are its own to write.
+        const std::uint32_t struct_size = info.struct_size;
+        const std::size_t size = struct_size != 0 ? struct_size : device_info_first;
+        if (!live(renderer)) return bad_handle(fn);
+        const render::Gpu& gpu = renderer->impl->gpu();
+        info = dfm_vk_device_info{};
+        info.struct_size = struct_size;
+        info.instance = gpu.instance;
+        info.physical_device = gpu.physical;
+        info.device = gpu.device;
+        info.queue_family = gpu.queue_family;
+        info.queue = gpu.queue;
+        info.frames_in_flight = static_cast<uint32_t>(renderer->impl->frames_in_flight());
+        info.samples = static_cast<uint32_t>(renderer->impl->samples());
+        std::memcpy(out, &info, std::min(size, sizeof info));
         return DFM_OK;
     });
 }
