@@ -14,6 +14,7 @@ from .errors import (BusyError, CancelledError, DeviceError, DualformError, Inte
                      UnsupportedError, result_name)
 from .mesh import Mesh, Roi
 from .session import FrameView, Session, frame_checksum
+from . import scenario
 from .types import (Camera, FrameInfo, Hit, LoadReport, LogId, LogLevel, MeshInfo, MeshMemory,
                     MeshSummary, Method, PlyEncoding, Preconditioner, Quality, SessionMemory,
                     SolveReport, WaterFillDiagnosis)
@@ -33,6 +34,6 @@ __all__ = [
     "LogLevel", "Mesh", "MeshInfo", "MeshMemory", "MeshSummary", "Method", "NotFoundError",
     "NumericalError", "OutOfMemoryError", "OutOfRangeError", "ParseError", "PlyEncoding",
     "Preconditioner", "Quality", "Roi", "Session", "SessionMemory", "SolveReport",
-    "UnsupportedError", "WaterFillDiagnosis", "default_models_directory", "frame_checksum",
+    "UnsupportedError", "WaterFillDiagnosis", "scenario", "default_models_directory", "frame_checksum",
     "library_candidates", "library_version", "load_library", "result_name",
 ]

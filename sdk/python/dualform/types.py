@@ -4,8 +4,11 @@ from __future__ import annotations
 
 import ctypes
 import enum
+import math
 from dataclasses import dataclass, fields
-from typing import Sequence, Tuple, Type, TypeVar
+from typing import Optional, Sequence, Tuple, Type, TypeVar
+
+import numpy as np
 
 from . import _native
 
@@ -75,6 +78,25 @@ class Camera:
         c.width = int(self.width)
         c.height = int(self.height)
         return c
+
+    def project(self, point: Sequence[float]) -> Optional[Tuple[float, float]]:
+        """The pixel where the camera sees ``point`` (None behind it): the
+        inverse of the ray a pick casts."""
+        eye = np.asarray(self.eye, dtype=np.float64)
+        forward = np.asarray(self.target, dtype=np.float64) - eye
+        forward /= np.linalg.norm(forward)
+        right = np.cross(forward, np.asarray(self.up, dtype=np.float64))
+        right /= np.linalg.norm(right)
+        up = np.cross(right, forward)
+        half_height = math.tan(self.fov_y_degrees * math.pi / 360.0)
+        half_width = half_height * self.width / self.height
+        d = np.asarray(point, dtype=np.float64) - eye
+        depth = float(d @ forward)
+        if not depth > 0.0:
+            return None
+        sx = float(d @ right) / depth / half_width
+        sy = float(d @ up) / depth / half_height
+        return ((sx + 1.0) * 0.5 * self.width, (1.0 - sy) * 0.5 * self.height)
 
     @classmethod
     def from_dict(cls, d: dict) -> "Camera":
