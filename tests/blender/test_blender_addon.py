@@ -1,6 +1,7 @@
-"""The Blender add-on, headless: one Blender run (blender_checks.py) does
+"""The Blender add-on: one headless Blender run (blender_checks.py) does
 what a user would, and the tests below compare what it produced with the
-dualform tool on the same mesh and edit.
+dualform tool on the same mesh and edit; a second run with a window under
+Xvfb (modal_ui_checks.py) drives the modal drag with simulated events.
 
 The cow goes to Blender as a PLY with float coordinates: Blender keeps
 vertices in float, so both sides then start from the same rest pose
@@ -134,3 +135,34 @@ def test_modal_drag_escape_restores_bit_for_bit(run):
     assert r["escape_moved_first"]
     assert r["modal_escape"] == ["CANCELLED"]
     assert r["escape_restored_bitwise"]
+
+
+@pytest.fixture(scope="module")
+def modal_ui(run):
+    """The modal drag in a real 3D view under Xvfb, driven by simulated
+    mouse moves, Enter and Escape (modal_ui_checks.py)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("DUALFORM_LIBRARY", "PYTHONPATH")}
+    env.update(BLENDER_USER_SCRIPTS=str(run.work / "user-scripts-ui"),
+               BLENDER_USER_CONFIG=str(run.work / "user-config-ui"))
+    blender = subprocess.run(
+        ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24",
+         os.environ.get("DUALFORM_BLENDER", "blender"), "--factory-startup",
+         "--enable-event-simulate", "--window-geometry", "0", "0", "1280", "800",
+         "--python-exit-code", "1", "--python", str(HERE / "modal_ui_checks.py"), "--",
+         str(run.work / "dualform_blender.zip"), str(run.work / "cow.ply"), str(run.work),
+         str(run.work / "hoof.txt")],
+        capture_output=True, text=True, env=env, timeout=300)
+    assert blender.returncode == 0, blender.stdout + blender.stderr
+    return json.loads((run.work / "modal_ui.json").read_text())
+
+
+def test_modal_drag_in_a_3d_view_follows_the_mouse_and_enter_keeps_it(modal_ui, run):
+    assert modal_ui["invoke"] == [["RUNNING_MODAL"], ["RUNNING_MODAL"]]
+    assert modal_ui["moving_while_dragging"]
+    assert modal_ui["enter_hoof_moved"] > 0.01 * run.diagonal
+    assert modal_ui["enter_outside_moved"] == 0.0
+
+
+def test_modal_drag_in_a_3d_view_escape_restores_bit_for_bit(modal_ui):
+    assert modal_ui["escape_moving_while_dragging"]
+    assert modal_ui["escape_restored_bitwise"]

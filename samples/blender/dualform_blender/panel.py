@@ -36,15 +36,14 @@ class VIEW3D_PT_dualform(bpy.types.Panel):
         layout = self.layout
         obj = context.active_object
         col = layout.column(align=True)
-        col.label(text="1. Edit Mode: select the tip, then the end")
+        col.label(text="1. Select the tip, then the end")
         col.operator("dualform.water_fill_roi", icon="MOD_FLUIDSIM")
         col.label(text="2. Select the handle's vertices")
         col.operator("dualform.add_handle", icon="EMPTY_ARROWS")
         col.separator()
-        col.label(text="3. Drag (G move, R rotate, Enter, Esc)")
-        row = col.row(align=True)
-        row.operator("dualform.drag", text="Drag into Mesh", icon="VIEW_PAN").keep = "MESH"
-        row.operator("dualform.drag", text="Drag as Shape Key",
+        col.label(text="3. Drag: G move, R rotate")
+        col.operator("dualform.drag", text="Drag into Mesh", icon="VIEW_PAN").keep = "MESH"
+        col.operator("dualform.drag", text="Drag as Shape Key",
                      icon="SHAPEKEY_DATA").keep = "SHAPE_KEY"
         if obj is None or obj.type != "MESH":
             return
@@ -57,9 +56,10 @@ class VIEW3D_PT_dualform(bpy.types.Panel):
         else:
             box.label(text="ROI: none yet")
         handles = bridge.handle_group_names(obj)
-        box.label(text=f"Handle groups: {len(handles)}"
-                       + (f" (active: {obj.vertex_groups.active.name})"
-                          if obj.vertex_groups.active and handles else ""))
+        box.label(text=f"Handle groups: {len(handles)}")
+        active = obj.vertex_groups.active
+        if active is not None and active.name in handles:
+            box.label(text=f"Moves: {active.name}")
 
 
 CLASSES = (DualformPreferences, VIEW3D_PT_dualform)
