@@ -18,7 +18,8 @@ SCENARIOS = REPO / "tests" / "scenarios"
 
 @pytest.fixture(scope="session")
 def cli() -> str:
-    path = os.environ.get("DUALFORM_CLI") or str(REPO / "build" / "release" / "tools" / "dualform")
+    path = os.path.abspath(os.environ.get("DUALFORM_CLI")
+                           or REPO / "build" / "release" / "tools" / "dualform")
     if not os.access(path, os.X_OK):
         pytest.fail(f"the dualform tool is not built at {path} (set DUALFORM_CLI)")
     return path
