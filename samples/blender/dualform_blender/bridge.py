@@ -97,12 +97,16 @@ class DragEdit:
         if self.handle not in names:
             raise ValueError(f"'{self.handle}' is not a handle group (one of {', '.join(names)})")
         self.group_index = names.index(self.handle)
-        self._context = dfm.Context()
-        self._mesh = dfm.Mesh.from_arrays(self._context, self.original, triangles)
-        self._roi = self._mesh.roi_from_vertices(roi)
         groups = [group_vertices(obj, name) for name in names]
         self.pivot = self.original[groups[self.group_index]].astype(np.float64).mean(axis=0)
-        self.session = dfm.Session(self._mesh, self._roi, groups)
+        self._context = dfm.Context()
+        try:
+            self._mesh = dfm.Mesh.from_arrays(self._context, self.original, triangles)
+            self._roi = self._mesh.roi_from_vertices(roi)
+            self.session = dfm.Session(self._mesh, self._roi, groups)
+        except Exception:
+            self._context.close()
+            raise
         self._buffer = self.original.copy()
         self.submitted = 0
         self.applied = 0

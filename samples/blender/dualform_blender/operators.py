@@ -1,8 +1,6 @@
 """The add-on's operators: Water-Fill ROI, Add Handle, the modal Dualform
 Drag and its non-interactive twin Dualform Deform."""
 
-from __future__ import annotations
-
 import math
 
 import bmesh

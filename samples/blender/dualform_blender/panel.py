@@ -1,7 +1,5 @@
 """The sidebar panel (3D view, N, tab 'Dualform') and the preferences."""
 
-from __future__ import annotations
-
 import bpy
 from bpy.props import StringProperty
 

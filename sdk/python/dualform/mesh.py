@@ -40,7 +40,7 @@ class Mesh(Handle):
         """Copies a mesh from ``positions`` (float32 or float64, shape (n, 3),
         read in place) and ``triangles`` (uint32 (m, 3); other integer types
         are converted)."""
-        pos_in, pos = _arrays.vec3_input(positions, "positions")
+        pos_in, _kept = _arrays.vec3_input(positions, "positions")
         tri = _arrays.index_array(triangles, "triangles", columns=3)
         desc = _native.MeshDesc()
         desc.struct_size = ctypes.sizeof(desc)
@@ -49,7 +49,6 @@ class Mesh(Handle):
         desc.triangle_count = tri.shape[0]
         out = _out_handle()
         check(_native.lib().dfm_mesh_create(context.pointer, ctypes.byref(desc), ctypes.byref(out)))
-        del pos
         return cls(context, out.value)
 
     @classmethod
@@ -141,9 +140,8 @@ class Mesh(Handle):
     def set_positions(self, positions) -> None:
         """Replaces the rest pose (an undoable step); earlier sessions can no
         longer bake."""
-        v, keep = _arrays.vec3_input(positions)
+        v, _kept = _arrays.vec3_input(positions)
         check(_native.lib().dfm_mesh_set_positions(self.pointer, ctypes.byref(v)))
-        del keep
 
     def undo_bake(self) -> None:
         check(_native.lib().dfm_mesh_undo_bake(self.pointer))
@@ -193,7 +191,7 @@ class Mesh(Handle):
 
     def roi_from_vertices(self, vertices: Iterable[int]) -> "Roi":
         """An explicit list (duplicates merged)."""
-        v = _arrays.index_array(list(vertices) if not isinstance(vertices, np.ndarray) else vertices,
+        v = _arrays.index_array(vertices if isinstance(vertices, np.ndarray) else list(vertices),
                                 "vertices")
         out = _out_handle()
         check(_native.lib().dfm_roi_from_vertices(self.pointer, _arrays.uint32_pointer(v), v.size,
