@@ -343,12 +343,12 @@ def _candidates() -> list[str]:
     bundled = here / "lib" / _SONAME
     if bundled.exists():
         found.append(str(bundled))
-    # The package imported from the source tree: sdk/python/dualform.
     root = here.parents[2]
-    for preset in ("release", "debug", "asan", "tsan"):
-        built = root / "build" / preset / "sdk" / "libdualform.so"
-        if built.exists():
-            found.append(str(built))
+    if root / "sdk" / "python" / "dualform" == here:  # imported from the source tree
+        for preset in ("release", "debug"):
+            built = root / "build" / preset / "sdk" / "libdualform.so"
+            if built.exists():
+                found.append(str(built))
     found.append(_SONAME)
     system = ctypes.util.find_library("dualform")
     if system:
@@ -400,7 +400,7 @@ def load_library(path: Optional[str] = None) -> ctypes.CDLL:
 def library_candidates() -> list[str]:
     """The paths and names tried, in order, when no path is given:
     $DUALFORM_LIBRARY alone if set; else ``dualform/lib/libdualform.so.0.2``
-    beside the package, the source tree's ``build/<preset>/sdk/libdualform.so``,
+    beside the package, the source tree's ``build/{release,debug}/sdk/libdualform.so``,
     then the system loader (``libdualform.so.0.2``, ``find_library``)."""
     return _candidates()
 
