@@ -133,6 +133,8 @@ class DragEdit:
     @property
     def settled(self) -> bool:
         """The newest submitted motion's finished frame is in the mesh."""
+        if self.submitted == 0:
+            return True
         return (self.last_info is not None and self.applied >= self.submitted
                 and not self.last_info.partial)
 

@@ -223,12 +223,16 @@ class DUALFORM_OT_drag(bpy.types.Operator):
             return {"RUNNING_MODAL"}
         if self.finishing:
             return {"RUNNING_MODAL"}
-        if event.type == "MOUSEMOVE":
-            self.drag.move(self._motion((event.mouse_region_x, event.mouse_region_y)))
-        elif event.type in {"G", "R"} and event.value == "PRESS":
-            self.rotating = event.type == "R"
-            self.drag.move(self._motion((event.mouse_region_x, event.mouse_region_y)))
-        elif event.type in {"RET", "NUMPAD_ENTER", "LEFTMOUSE"} and event.value == "PRESS":
+        try:
+            if event.type == "MOUSEMOVE":
+                self.drag.move(self._motion((event.mouse_region_x, event.mouse_region_y)))
+            elif event.type in {"G", "R"} and event.value == "PRESS":
+                self.rotating = event.type == "R"
+                self.drag.move(self._motion((event.mouse_region_x, event.mouse_region_y)))
+        except Exception as error:  # a failed set-up refuses every submit
+            self.report({"ERROR"}, str(error))
+            return self._end(context, keep=False)
+        if event.type in {"RET", "NUMPAD_ENTER", "LEFTMOUSE"} and event.value == "PRESS":
             # Kept once the last motion's finished frame is in the mesh: the
             # timer keeps polling, the UI never waits on the solve.
             self.finishing = True
