@@ -1,0 +1,39 @@
+"""Dualform for Python: the C API (libdualform) through ctypes, with numpy
+arrays in and out. See docs/python.md.
+
+    import dualform as dfm
+    with dfm.Context() as ctx, dfm.Mesh.load(ctx, "model:cow") as cow:
+        roi = cow.water_fill(771, 681)
+"""
+
+from ._native import LIBRARY_VARIABLE, library_candidates, load_library
+from .context import Context, CountingAllocator, default_models_directory
+from .errors import (BusyError, CancelledError, DeviceError, DualformError, InternalError,
+                     InvalidArgumentError, InvalidHandleError, IOFailedError, NotFoundError,
+                     NumericalError, OutOfMemoryError, OutOfRangeError, ParseError,
+                     UnsupportedError, result_name)
+from .mesh import Mesh, Roi
+from .session import FrameView, Session, frame_checksum
+from . import scenario
+from .types import (Camera, FrameInfo, Hit, LoadReport, LogId, LogLevel, MeshInfo, MeshMemory,
+                    MeshSummary, Method, PlyEncoding, Preconditioner, Quality, SessionMemory,
+                    SolveReport, WaterFillDiagnosis)
+
+__version__ = "0.2.0"
+
+
+def library_version() -> int:
+    """dfm_version() of the loaded library (major * 10000 + minor * 100 + patch)."""
+    return load_library().dfm_version()
+
+
+__all__ = [
+    "BusyError", "Camera", "CancelledError", "Context", "CountingAllocator", "DeviceError",
+    "DualformError", "FrameInfo", "FrameView", "Hit", "IOFailedError", "InternalError",
+    "InvalidArgumentError", "InvalidHandleError", "LIBRARY_VARIABLE", "LoadReport", "LogId",
+    "LogLevel", "Mesh", "MeshInfo", "MeshMemory", "MeshSummary", "Method", "NotFoundError",
+    "NumericalError", "OutOfMemoryError", "OutOfRangeError", "ParseError", "PlyEncoding",
+    "Preconditioner", "Quality", "Roi", "Session", "SessionMemory", "SolveReport",
+    "UnsupportedError", "WaterFillDiagnosis", "scenario", "default_models_directory", "frame_checksum",
+    "library_candidates", "library_version", "load_library", "result_name",
+]

@@ -1,0 +1,260 @@
+"""Meshes (dfm_mesh) and regions of interest (dfm_roi)."""
+
+from __future__ import annotations
+
+import ctypes
+import os
+from typing import Iterable, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _arrays, _native
+from ._handle import Handle
+from .context import Context
+from .errors import check
+from .types import (Camera, Hit, LoadReport, MeshInfo, MeshMemory, MeshSummary, PlyEncoding,
+                    WaterFillDiagnosis, from_struct)
+
+PathLike = Union[str, os.PathLike]
+
+
+def _out_handle() -> ctypes.c_void_p:
+    return ctypes.c_void_p()
+
+
+class Mesh(Handle):
+    """dfm_mesh: a triangle mesh and its bake history. Make one with
+    :meth:`from_arrays` or :meth:`load`; close it (or use ``with``) when done.
+    Sessions on the mesh keep its C object alive after ``close()``."""
+
+    _kind = "mesh"
+
+    def __init__(self, context: Context, pointer: int) -> None:
+        self.context = context
+        super().__init__(pointer, _native.lib().dfm_mesh_destroy, *context.keep_alive)
+
+    # -------------------------------------------------------------- making
+
+    @classmethod
+    def from_arrays(cls, context: Context, positions, triangles) -> "Mesh":
+        """Copies a mesh from ``positions`` (float32 or float64, shape (n, 3),
+        read in place) and ``triangles`` (uint32 (m, 3); other integer types
+        are converted)."""
+        pos_in, _kept = _arrays.vec3_input(positions, "positions")
+        tri = _arrays.index_array(triangles, "triangles", columns=3)
+        desc = _native.MeshDesc()
+        desc.struct_size = ctypes.sizeof(desc)
+        desc.positions = pos_in
+        desc.indices = tri.ctypes.data
+        desc.triangle_count = tri.shape[0]
+        out = _out_handle()
+        check(_native.lib().dfm_mesh_create(context.pointer, ctypes.byref(desc), ctypes.byref(out)))
+        return cls(context, out.value)
+
+    @classmethod
+    def load(cls, context: Context, path: PathLike) -> "Mesh":
+        """Loads an OFF, OBJ or PLY file, or ``model:NAME`` from the context's
+        models folder."""
+        out = _out_handle()
+        check(_native.lib().dfm_mesh_load(context.pointer, os.fsencode(path), ctypes.byref(out)))
+        return cls(context, out.value)
+
+    @classmethod
+    def load_with_report(cls, context: Context, path: PathLike) -> Tuple["Mesh", LoadReport]:
+        """:meth:`load`, and what the file held besides the mesh."""
+        out = _out_handle()
+        report = _native.LoadReport()
+        check(_native.lib().dfm_mesh_load_with_report(context.pointer, os.fsencode(path),
+                                                      ctypes.byref(report), ctypes.byref(out)))
+        return cls(context, out.value), from_struct(LoadReport, report)
+
+    def subdivide(self, steps: int) -> "Mesh":
+        """A new mesh: ``steps`` (1-3) rounds of Loop subdivision; coarse
+        vertices keep their indices."""
+        out = _out_handle()
+        check(_native.lib().dfm_mesh_subdivide(self.pointer, steps, ctypes.byref(out)))
+        return Mesh(self.context, out.value)
+
+    def save(self, path: PathLike, *, ply_encoding: Optional[PlyEncoding] = None,
+             ply_float: bool = False, obj_normals: bool = False) -> None:
+        """Writes the rest pose to .off, .obj or .ply (atomically). PLY is
+        binary little-endian with double coordinates unless told otherwise."""
+        options = _native.SaveOptions()
+        options.struct_size = ctypes.sizeof(options)
+        options.ply_encoding = int(ply_encoding or 0)
+        options.ply_float = ply_float
+        options.obj_normals = obj_normals
+        check(_native.lib().dfm_mesh_save_with_options(self.pointer, os.fsencode(path),
+                                                       ctypes.byref(options)))
+
+    # -------------------------------------------------------------- reading
+
+    @property
+    def info(self) -> MeshInfo:
+        out = _native.MeshInfo()
+        check(_native.lib().dfm_mesh_get_info(self.pointer, ctypes.byref(out)))
+        return from_struct(MeshInfo, out)
+
+    @property
+    def vertex_count(self) -> int:
+        return self.info.vertex_count
+
+    @property
+    def memory(self) -> MeshMemory:
+        out = _native.MeshMemory()
+        check(_native.lib().dfm_mesh_get_memory(self.pointer, ctypes.byref(out)))
+        return from_struct(MeshMemory, out)
+
+    @property
+    def summary(self) -> MeshSummary:
+        out = _native.MeshSummary()
+        check(_native.lib().dfm_mesh_get_summary(self.pointer, ctypes.byref(out)))
+        return from_struct(MeshSummary, out)
+
+    def positions(self, dtype=np.float64, out: Optional[np.ndarray] = None) -> np.ndarray:
+        """The rest positions, (n, 3), written straight into ``out`` (or a
+        new array of ``dtype``)."""
+        n = self.vertex_count
+        array = _arrays.new_vec3(n, dtype, out)
+        check(_native.lib().dfm_mesh_read_positions(self.pointer,
+                                                    ctypes.byref(_arrays.vec3_output(array))))
+        return array
+
+    def normals(self, dtype=np.float64, out: Optional[np.ndarray] = None) -> np.ndarray:
+        """Area-weighted unit vertex normals of the rest pose, (n, 3)."""
+        array = _arrays.new_vec3(self.vertex_count, dtype, out)
+        check(_native.lib().dfm_mesh_read_normals(self.pointer,
+                                                  ctypes.byref(_arrays.vec3_output(array))))
+        return array
+
+    def triangles(self) -> np.ndarray:
+        """The triangles' vertex indices, uint32 (m, 3)."""
+        m = self.info.triangle_count
+        array = np.empty((m, 3), dtype=np.uint32)
+        check(_native.lib().dfm_mesh_read_indices(self.pointer, _arrays.uint32_pointer(array),
+                                                  array.size))
+        return array
+
+    # -------------------------------------------------------------- history
+
+    def set_positions(self, positions) -> None:
+        """Replaces the rest pose (an undoable step); earlier sessions can no
+        longer bake."""
+        v, _kept = _arrays.vec3_input(positions)
+        check(_native.lib().dfm_mesh_set_positions(self.pointer, ctypes.byref(v)))
+
+    def undo_bake(self) -> None:
+        check(_native.lib().dfm_mesh_undo_bake(self.pointer))
+
+    def redo_bake(self) -> None:
+        check(_native.lib().dfm_mesh_redo_bake(self.pointer))
+
+    # -------------------------------------------------------------- picking
+
+    def pick(self, camera: Camera, x: float, y: float) -> Optional[Hit]:
+        """What pixel (x, y) of ``camera`` sees on the rest pose; None on a miss."""
+        out = _native.Hit()
+        c = camera.to_c()
+        check(_native.lib().dfm_mesh_pick(self.pointer, ctypes.byref(c), x, y, ctypes.byref(out)))
+        return _hit(out)
+
+    def pick_ray(self, origin: Sequence[float], direction: Sequence[float]) -> Optional[Hit]:
+        """The first hit along a ray; None on a miss."""
+        o = (ctypes.c_double * 3)(*origin)
+        d = (ctypes.c_double * 3)(*direction)
+        out = _native.Hit()
+        check(_native.lib().dfm_mesh_pick_ray(self.pointer, o, d, ctypes.byref(out)))
+        return _hit(out)
+
+    # -------------------------------------------------------------- ROIs
+
+    def water_fill(self, first: int, last: int) -> "Roi":
+        """The paper's Water-Filling from vertex ``first`` up to the cut
+        through ``last``; the ROI's ``diagnosis`` says whether it is suspect."""
+        out = _out_handle()
+        d = _native.WaterFillDiagnosis()
+        check(_native.lib().dfm_roi_water_fill(self.pointer, first, last, ctypes.byref(out),
+                                               ctypes.byref(d)))
+        return Roi(self, out.value, from_struct(WaterFillDiagnosis, d))
+
+    def water_fill_clicks(self, camera: Camera, first_pixel: Sequence[float],
+                          last_pixel: Sequence[float]) -> "Roi":
+        """Water-Filling from two pixels picked through ``camera``."""
+        out = _out_handle()
+        d = _native.WaterFillDiagnosis()
+        c = camera.to_c()
+        a = (ctypes.c_double * 2)(*first_pixel)
+        b = (ctypes.c_double * 2)(*last_pixel)
+        check(_native.lib().dfm_roi_water_fill_clicks(self.pointer, ctypes.byref(c), a, b,
+                                                      ctypes.byref(out), ctypes.byref(d)))
+        return Roi(self, out.value, from_struct(WaterFillDiagnosis, d))
+
+    def roi_from_vertices(self, vertices: Iterable[int]) -> "Roi":
+        """An explicit list (duplicates merged)."""
+        v = _arrays.index_array(vertices if isinstance(vertices, np.ndarray) else list(vertices),
+                                "vertices")
+        out = _out_handle()
+        check(_native.lib().dfm_roi_from_vertices(self.pointer, _arrays.uint32_pointer(v), v.size,
+                                                  ctypes.byref(out)))
+        return Roi(self, out.value)
+
+    def roi_ball(self, center: int, radius: float) -> "Roi":
+        """Vertices reachable from ``center`` inside the ball of ``radius`` x
+        diagonal."""
+        out = _out_handle()
+        check(_native.lib().dfm_roi_ball(self.pointer, center, radius, ctypes.byref(out)))
+        return Roi(self, out.value)
+
+    def roi_all(self) -> "Roi":
+        out = _out_handle()
+        check(_native.lib().dfm_roi_all(self.pointer, ctypes.byref(out)))
+        return Roi(self, out.value)
+
+
+def _hit(h: _native.Hit) -> Optional[Hit]:
+    if not h.hit:
+        return None
+    return Hit(h.face, h.vertex, tuple(h.point), h.distance, tuple(h.barycentric))
+
+
+class Roi(Handle):
+    """dfm_roi: an immutable set of vertices of one mesh. ``diagnosis`` is
+    the Water-Filling's (None for the other kinds)."""
+
+    _kind = "ROI"
+
+    def __init__(self, mesh: Mesh, pointer: int,
+                 diagnosis: Optional[WaterFillDiagnosis] = None) -> None:
+        self.mesh = mesh
+        self.diagnosis = diagnosis
+        super().__init__(pointer, _native.lib().dfm_roi_destroy, *mesh.context.keep_alive)
+
+    def __len__(self) -> int:
+        out = ctypes.c_size_t()
+        check(_native.lib().dfm_roi_count(self.pointer, ctypes.byref(out)))
+        return out.value
+
+    def vertices(self) -> np.ndarray:
+        """The vertex indices, ascending, uint32."""
+        array = np.empty(len(self), dtype=np.uint32)
+        check(_native.lib().dfm_roi_read(self.pointer, _arrays.uint32_pointer(array), array.size))
+        return array
+
+    def _derived(self, call, *args) -> "Roi":
+        out = _out_handle()
+        check(call(*args, ctypes.byref(out)))
+        return Roi(self.mesh, out.value)
+
+    def grow(self, rings: int) -> "Roi":
+        """Grown (rings > 0) or shrunk (rings < 0) by whole edge rings."""
+        return self._derived(_native.lib().dfm_roi_grow, self.pointer, rings)
+
+    def union(self, other: "Roi") -> "Roi":
+        return self._derived(_native.lib().dfm_roi_union, self.pointer, other.pointer)
+
+    def difference(self, other: "Roi") -> "Roi":
+        return self._derived(_native.lib().dfm_roi_difference, self.pointer, other.pointer)
+
+    def boundary(self) -> "Roi":
+        """The vertices with a neighbour outside: what stays fixed."""
+        return self._derived(_native.lib().dfm_roi_boundary, self.pointer)

@@ -1,0 +1,102 @@
+"""Every failing call raises the DualformError subclass of its dfm_result,
+with the C API's own message."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import dualform as dfm
+from conftest import tetrahedron
+
+
+def test_missing_file_names_it(context):
+    with pytest.raises(dfm.NotFoundError) as caught:
+        dfm.Mesh.load(context, "/no/such/mesh.off")
+    e = caught.value
+    assert e.result == 2 and e.name == "DFM_ERROR_NOT_FOUND"
+    assert "/no/such/mesh.off" in e.message
+    assert dfm.result_name(e.result) == e.name
+
+
+def test_parse_error_names_the_place(context, tmp_path):
+    bad = tmp_path / "bad.off"
+    bad.write_text("OFF\n3 1 0\n0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n")
+    with pytest.raises(dfm.ParseError) as caught:
+        dfm.Mesh.load(context, bad)
+    assert "bad.off" in caught.value.message and ":" in caught.value.message
+
+
+def test_index_out_of_range_names_triangle_and_corner(context):
+    positions, triangles = tetrahedron()
+    triangles = triangles.copy()
+    triangles[2, 1] = 9
+    with pytest.raises(dfm.DualformError) as caught:
+        dfm.Mesh.from_arrays(context, positions, triangles)
+    assert caught.value.name in ("DFM_ERROR_OUT_OF_RANGE", "DFM_ERROR_INVALID_ARGUMENT")
+    assert "2" in caught.value.message and "9" in caught.value.message
+
+
+def test_non_finite_position_is_numerical(context):
+    positions, triangles = tetrahedron()
+    positions = positions.copy()
+    positions[3, 0] = np.nan
+    with pytest.raises(dfm.DualformError) as caught:
+        dfm.Mesh.from_arrays(context, positions, triangles)
+    assert "3" in caught.value.message
+
+
+def test_handle_outside_roi_names_group_and_vertex(cow):
+    with cow.roi_ball(771, 0.05) as roi:
+        outside = int(np.setdiff1d(np.arange(cow.vertex_count), roi.vertices())[0])
+        with pytest.raises(dfm.InvalidArgumentError) as caught:
+            dfm.Session(cow, roi, [[771], [outside]])
+    assert str(outside) in caught.value.message
+
+
+def test_closed_handle_raises_invalid_handle(context):
+    positions, triangles = tetrahedron()
+    mesh = dfm.Mesh.from_arrays(context, positions, triangles)
+    mesh.close()
+    mesh.close()
+    with pytest.raises(dfm.InvalidHandleError):
+        mesh.info
+
+
+def test_wrong_shape_and_dtype_refused_before_the_call(context):
+    positions, triangles = tetrahedron()
+    with pytest.raises(ValueError):
+        dfm.Mesh.from_arrays(context, positions[:, :2], triangles)
+    with pytest.raises(TypeError):
+        dfm.Mesh.from_arrays(context, positions, triangles.astype(np.float32))
+
+
+def test_second_acquire_is_busy_and_wait_times_out(cow):
+    with cow.water_fill(771, 681) as roi, dfm.Session(cow, roi, [[771]]) as session:
+        session.wait()
+        with session.acquire_frame():
+            with pytest.raises(dfm.BusyError) as caught:
+                with session.acquire_frame():
+                    pass
+            assert caught.value.message
+        with pytest.raises(dfm.InvalidArgumentError) as caught:
+            session.wait(5)
+        assert "never submitted" in caught.value.message
+
+
+def test_wait_times_out_while_the_set_up_runs(cow):
+    # A ROI of 9,416 vertices: its set-up takes a large fraction of a second.
+    with cow.subdivide(2) as fine, fine.roi_ball(771, 0.3) as roi, \
+            dfm.Session(fine, roi, [[771]]) as session:
+        session.set_translation(0, [0.05, 0, 0])
+        generation = session.submit()
+        # Microseconds after creation the set-up (assembly, factor) still runs.
+        with pytest.raises(dfm.BusyError):
+            session.wait(generation, timeout=0)
+        assert session.wait(generation).generation == generation
+
+
+def test_undo_with_nothing_to_undo_is_not_found(cow):
+    with pytest.raises(dfm.NotFoundError) as caught:
+        cow.undo_bake()
+    assert caught.value.message

@@ -1,0 +1,87 @@
+"""Meshes from numpy arrays and files, and their ROIs and picks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import dualform as dfm
+from conftest import tetrahedron
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_arrays_round_trip(context, dtype):
+    positions, triangles = tetrahedron()
+    with dfm.Mesh.from_arrays(context, positions.astype(dtype), triangles) as mesh:
+        info = mesh.info
+        assert (info.vertex_count, info.triangle_count) == (4, 4)
+        assert np.array_equal(mesh.positions(), positions)
+        assert mesh.positions(np.float32).dtype == np.float32
+        assert np.array_equal(mesh.triangles(), triangles)
+        assert mesh.summary.closed
+        n = mesh.normals()
+        assert np.allclose(np.linalg.norm(n, axis=1), 1.0)
+
+
+def test_strided_rows_are_read_in_place(context):
+    positions, triangles = tetrahedron()
+    wide = np.zeros((4, 5))
+    wide[:, 1:4] = positions
+    with dfm.Mesh.from_arrays(context, wide[:, 1:4], triangles.astype(np.int64)) as mesh:
+        assert np.array_equal(mesh.positions(), positions)
+
+
+def test_positions_written_into_the_callers_array(cow):
+    out = np.zeros((cow.vertex_count, 3), dtype=np.float32)
+    assert cow.positions(out=out) is out
+    assert np.array_equal(out, cow.positions().astype(np.float32))
+
+
+def test_save_and_load(cow, context, tmp_path):
+    for name in ("cow.ply", "cow.off", "cow.obj"):
+        cow.save(tmp_path / name)
+        with dfm.Mesh.load(context, tmp_path / name) as back:
+            assert np.array_equal(back.triangles(), cow.triangles())
+            tolerance = 0.0 if name == "cow.ply" else 1e-9
+            assert np.abs(back.positions() - cow.positions()).max() <= tolerance
+    cow.save(tmp_path / "float.ply", ply_float=True, ply_encoding=dfm.PlyEncoding.ASCII)
+    with dfm.Mesh.load(context, tmp_path / "float.ply") as back:
+        assert np.array_equal(back.positions(), cow.positions().astype(np.float32))
+
+
+def test_water_fill_of_the_cow_leg(cow):
+    with cow.water_fill(771, 681) as roi:
+        assert len(roi) == 138
+        assert roi.diagnosis == dfm.WaterFillDiagnosis(loops=1, bounded_by_last_loop=True,
+                                                        suspect=False)
+        vertices = roi.vertices()
+        assert vertices.dtype == np.uint32 and np.all(np.diff(vertices.astype(np.int64)) > 0)
+        with roi.boundary() as boundary, roi.grow(1) as grown, grown.difference(roi) as ring:
+            assert 0 < len(boundary) < len(roi)
+            assert len(grown) == len(roi) + len(ring)
+            with ring.union(roi) as again:
+                assert np.array_equal(again.vertices(), grown.vertices())
+
+
+def test_two_clicks_give_the_water_fill(cow):
+    rest = cow.positions()
+    target = 0.5 * (rest[771] + rest[681])
+    camera = dfm.Camera(eye=target + [0.5, -0.3, 0.0], target=target, up=(0, 1, 0),
+                        fov_y_degrees=40.0, width=640, height=480)
+    first, last = camera.project(rest[771]), camera.project(rest[681])
+    assert cow.pick(camera, *first).vertex == 771
+    assert cow.pick(camera, *last).vertex == 681
+    assert cow.pick(camera, 1.0, 1.0) is None
+    with cow.water_fill_clicks(camera, first, last) as clicked, cow.water_fill(771, 681) as filled:
+        assert np.array_equal(clicked.vertices(), filled.vertices())
+        assert clicked.diagnosis == filled.diagnosis
+
+
+def test_ball_list_all_and_subdivide(cow):
+    with cow.roi_ball(771, 0.03) as ball, cow.roi_all() as everything:
+        assert 0 < len(ball) < 100
+        assert len(everything) == cow.vertex_count
+        with cow.roi_from_vertices([5, 3, 5, 9]) as listed:
+            assert listed.vertices().tolist() == [3, 5, 9]
+    with cow.subdivide(1) as fine:
+        assert fine.vertex_count > cow.vertex_count

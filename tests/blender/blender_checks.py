@@ -1,0 +1,178 @@
+"""Runs inside headless Blender (tests/blender/test_blender_addon.py starts
+it): installs and enables the add-on from its zip, imports the cow from
+PLY, runs the operators as a user would and saves what they produced in
+OUT for the test to compare with the dualform tool.
+
+blender -b --factory-startup --python-exit-code 1 --python blender_checks.py --
+    ZIP PLY OUT HOOF_FILE TX TY TZ
+"""
+
+import json
+import sys
+import time
+import types
+from pathlib import Path
+
+import bmesh
+import bpy
+import numpy as np
+
+zip_path, ply_path, out_dir, hoof_file, tx, ty, tz = sys.argv[sys.argv.index("--") + 1:]
+out = Path(out_dir)
+translate = (float(tx), float(ty), float(tz))
+hoof = [int(v) for v in Path(hoof_file).read_text().split()]
+results = {}
+
+
+def positions(obj) -> np.ndarray:
+    a = np.empty(len(obj.data.vertices) * 3, dtype=np.float32)
+    obj.data.vertices.foreach_get("co", a)
+    return a.reshape(-1, 3)
+
+
+def select_in_order(obj, vertices) -> None:
+    bpy.context.view_layer.objects.active = obj
+    bpy.ops.object.mode_set(mode="EDIT")
+    bm = bmesh.from_edit_mesh(obj.data)
+    bm.verts.ensure_lookup_table()
+    for v in bm.verts:
+        v.select = False
+    bm.select_history.clear()
+    for i in vertices:
+        bm.verts[i].select = True
+        bm.select_history.add(bm.verts[i])
+    bmesh.update_edit_mesh(obj.data)
+
+
+def duplicate(obj, name):
+    copy = obj.copy()
+    copy.data = obj.data.copy()
+    copy.name = name
+    bpy.context.collection.objects.link(copy)
+    return copy
+
+
+# -- install and enable
+bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
+bpy.ops.preferences.addon_enable(module="dualform_blender")
+import dualform  # noqa: E402  (importable once the add-on is enabled)
+from dualform_blender import bridge, operators  # noqa: E402
+
+results["enabled"] = "dualform_blender" in bpy.context.preferences.addons
+results["package"] = dualform.__file__
+results["library"] = dualform.load_library()._name
+
+# -- the cow from PLY
+for o in list(bpy.data.objects):
+    bpy.data.objects.remove(o)
+bpy.ops.import_mesh.ply(filepath=ply_path)
+cow = bpy.context.selected_objects[0]
+bpy.context.view_layer.objects.active = cow
+np.save(out / "rest.npy", positions(cow))
+
+# -- Water-Fill ROI from two vertices selected in order, then a handle
+select_in_order(cow, [771, 681])
+results["water_fill"] = list(bpy.ops.dualform.water_fill_roi())
+results["diagnosis"] = {k: cow[f"dualform_roi_{k}"] for k in ("count", "loops", "suspect")}
+select_in_order(cow, [771, 681, 5])
+try:
+    bpy.ops.dualform.water_fill_roi()
+    results["three_selected"] = "accepted"
+except RuntimeError as error:  # an operator's ERROR report
+    results["three_selected"] = str(error)
+select_in_order(cow, hoof)
+results["add_handle"] = list(bpy.ops.dualform.add_handle())
+bpy.ops.object.mode_set(mode="OBJECT")
+np.save(out / "roi.npy", bridge.group_vertices(cow, bridge.ROI_GROUP))
+np.save(out / "handle.npy", bridge.group_vertices(cow, "Dualform Handle 1"))
+
+as_key = duplicate(cow, "cow key")
+dragged = duplicate(cow, "cow dragged")
+escaped = duplicate(cow, "cow escaped")
+
+# -- the scripted twin, result kept in the mesh
+bpy.context.view_layer.objects.active = cow
+results["deform"] = list(bpy.ops.dualform.deform(translate=translate, keep="MESH"))
+np.save(out / "deformed.npy", positions(cow))
+
+# -- the same as a shape key: the basis stays, the key at 1 gives the result
+bpy.context.view_layer.objects.active = as_key
+results["deform_key"] = list(bpy.ops.dualform.deform(translate=translate, keep="SHAPE_KEY"))
+np.save(out / "key_basis.npy", positions(as_key))
+key = as_key.data.shape_keys.key_blocks[bridge.SHAPE_KEY_NAME]
+key.value = 1.0
+evaluated = as_key.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
+e = np.empty(len(evaluated.vertices) * 3, dtype=np.float32)
+evaluated.vertices.foreach_get("co", e)
+np.save(out / "key_evaluated.npy", e.reshape(-1, 3))
+as_key.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh_clear()
+results["shape_keys"] = [k.name for k in as_key.data.shape_keys.key_blocks]
+
+
+# -- the modal operator, driven by synthetic events. Its window-free steps
+# run on a stand-in for the operator; the mouse maps linearly to the
+# translation (a 3D view's mapping needs a window).
+class LinearMapping:
+    def translation(self, start, now):
+        return np.array([(now[0] - start[0]) / 1024.0, (now[1] - start[1]) / 1024.0, 0.0])
+
+    def view_axis(self):
+        return np.array([0.0, 0.0, 1.0])
+
+    def angle(self, start, now):
+        return 0.0
+
+
+def modal_driver(obj):
+    driver = types.SimpleNamespace(keep="MESH", report=lambda kind, text: print(kind, text))
+    op = operators.DUALFORM_OT_drag
+    for name in ("start", "modal", "_end", "_motion", "_header", "_restore_mode"):
+        setattr(driver, name, getattr(op, name).__get__(driver))
+    bpy.context.view_layer.objects.active = obj
+    assert driver.start(bpy.context, obj)
+    driver.mapping = LinearMapping()
+    driver.mouse_start = (0, 0)
+    return driver
+
+
+def event(kind, x=0, y=0, value="NOTHING"):
+    return types.SimpleNamespace(type=kind, value=value, mouse_region_x=x, mouse_region_y=y)
+
+
+def run_timer_until(driver, done, limit=30.0):
+    end = time.monotonic() + limit
+    while time.monotonic() < end:
+        state = driver.modal(bpy.context, event("TIMER"))
+        if done(state):
+            return state
+        time.sleep(0.005)
+    raise RuntimeError("the drag did not settle")
+
+
+# 1024 pixels a unit: the test's translation lands on whole pixels.
+mouse_end = (round(translate[0] * 1024), round(translate[1] * 1024))
+driver = modal_driver(dragged)
+for step in range(1, 11):
+    driver.modal(bpy.context, event("MOUSEMOVE", mouse_end[0] * step // 10,
+                                    mouse_end[1] * step // 10))
+    driver.modal(bpy.context, event("TIMER"))
+driver.modal(bpy.context, event("RET", *mouse_end, value="PRESS"))
+results["modal_enter"] = list(run_timer_until(driver, lambda s: s != {"RUNNING_MODAL"}))
+np.save(out / "modal.npy", positions(dragged))
+
+rest_bytes = positions(escaped).tobytes()
+driver = modal_driver(escaped)
+driver.modal(bpy.context, event("MOUSEMOVE", *mouse_end))
+run_timer_until(driver, lambda s: driver.drag.applied > 0)
+results["escape_moved_first"] = positions(escaped).tobytes() != rest_bytes
+results["modal_escape"] = list(driver.modal(bpy.context, event("ESC", value="PRESS")))
+results["escape_restored_bitwise"] = positions(escaped).tobytes() == rest_bytes
+
+# -- a Water-Fill that leaks: the tail tip cut through the rump
+select_in_order(cow, [2334, 1959])
+results["suspect_fill"] = list(bpy.ops.dualform.water_fill_roi())
+results["suspect_diagnosis"] = {k: cow[f"dualform_roi_{k}"] for k in ("count", "loops", "suspect")}
+bpy.ops.object.mode_set(mode="OBJECT")
+
+(out / "results.json").write_text(json.dumps(results, indent=1))
+print("blender_checks: done")

@@ -1,0 +1,168 @@
+"""The Blender add-on: one headless Blender run (blender_checks.py) does
+what a user would, and the tests below compare what it produced with the
+dualform tool on the same mesh and edit; a second run with a window under
+Xvfb (modal_ui_checks.py) drives the modal drag with simulated events.
+
+The cow goes to Blender as a PLY with float coordinates: Blender keeps
+vertices in float, so both sides then start from the same rest pose
+exactly, and the tool's double result rounded to float is Blender's."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import types
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import dualform as dfm
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+# Exact in float, as Blender's operator properties hold it.
+TRANSLATE = (0.09375, 0.03125, 0.0)
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    work = tmp_path_factory.mktemp("blender")
+    cli = os.environ["DUALFORM_CLI"]
+    ply = work / "cow.ply"
+    with dfm.Context() as ctx:
+        with dfm.Mesh.load(ctx, "model:cow") as cow:
+            cow.save(ply, ply_float=True)
+        with dfm.Mesh.load(ctx, ply) as cow, cow.roi_ball(771, 0.03) as ball:
+            hoof = ball.vertices()
+            rest = cow.positions()
+            diagonal = cow.info.diagonal
+    (work / "hoof.txt").write_text(" ".join(map(str, hoof)))
+    scenario = work / "edit.json"
+    scenario.write_text(json.dumps({
+        "mesh": str(ply),
+        "roi": {"water_fill": {"first": 771, "last": 681}},
+        "handles": [{"vertices": hoof.tolist(),
+                     "targets": (rest[hoof] + np.array(TRANSLATE)).tolist()}],
+    }))
+    subprocess.run([cli, "roi", str(scenario), "--out", str(work / "roi.txt")], check=True,
+                   stdout=subprocess.DEVNULL)
+    subprocess.run([cli, "deform", str(scenario), "--out", str(work / "cli.ply")], check=True,
+                   stdout=subprocess.DEVNULL)
+    addon = work / "dualform_blender.zip"
+    subprocess.run([sys.executable, str(REPO / "samples" / "blender" / "package.py"), str(addon),
+                    "--library", os.environ["DUALFORM_LIBRARY"]], check=True,
+                   stdout=subprocess.DEVNULL)
+    # Blender's own Python runs the bundled package and library: nothing
+    # from this process's environment points it at them.
+    env = {k: v for k, v in os.environ.items() if k not in ("DUALFORM_LIBRARY", "PYTHONPATH")}
+    env.update(BLENDER_USER_SCRIPTS=str(work / "user-scripts"),
+               BLENDER_USER_CONFIG=str(work / "user-config"))
+    blender = subprocess.run(
+        [os.environ.get("DUALFORM_BLENDER", "blender"), "-b", "--factory-startup",
+         "--python-exit-code", "1", "--python", str(HERE / "blender_checks.py"), "--",
+         str(addon), str(ply), str(work), str(work / "hoof.txt"), *map(str, TRANSLATE)],
+        capture_output=True, text=True, env=env, timeout=300)
+    assert blender.returncode == 0, blender.stdout + blender.stderr
+    with dfm.Context() as ctx, dfm.Mesh.load(ctx, work / "cli.ply") as result:
+        expected = result.positions()
+    return types.SimpleNamespace(
+        work=work, out=blender.stdout, results=json.loads((work / "results.json").read_text()),
+        rest=rest, hoof=hoof, diagonal=diagonal, expected=expected,
+        cli_roi=np.loadtxt(work / "roi.txt", dtype=np.uint32))
+
+
+def load(run, name):
+    return np.load(run.work / f"{name}.npy")
+
+
+def test_installs_and_enables_with_the_bundled_package(run):
+    r = run.results
+    assert r["enabled"]
+    assert "/user-scripts/addons/dualform_blender/vendor/dualform/" in r["package"]
+    assert r["library"].endswith("vendor/dualform/lib/libdualform.so.0.2")
+
+
+def test_ply_import_keeps_the_vertex_order_and_count(run):
+    assert np.array_equal(load(run, "rest"), run.rest.astype(np.float32))
+
+
+def test_two_vertex_water_fill_matches_dualform_roi(run):
+    r = run.results
+    assert r["water_fill"] == ["FINISHED"]
+    assert r["diagnosis"] == {"count": 138, "loops": 1, "suspect": 0}
+    assert len(run.cli_roi) == 138
+    assert np.array_equal(load(run, "roi"), run.cli_roi)
+    assert "Water-Fill ROI: 138 vertices, 1 cut loop(s)" in run.out
+    assert "one after the other" in r["three_selected"]
+
+
+def test_suspect_fill_is_named_as_such(run):
+    r = run.results
+    assert r["suspect_diagnosis"] == {"count": 684, "loops": 2, "suspect": 1}
+    assert "Warning: Water-Fill ROI: 684 vertices, 2 cut loop(s); SUSPECT" in run.out
+
+
+def test_add_handle_makes_the_group(run):
+    assert run.results["add_handle"] == ["FINISHED"]
+    assert np.array_equal(load(run, "handle"), run.hoof)
+
+
+def test_scripted_deform_matches_the_cli(run):
+    deformed = load(run, "deformed")
+    assert run.results["deform"] == ["FINISHED"]
+    assert np.linalg.norm(deformed[771] - run.rest[771]) > 0.09
+    assert np.abs(deformed - run.expected).max() <= 1e-6 * run.diagonal
+
+
+def test_shape_key_at_one_gives_the_same_positions(run):
+    assert run.results["shape_keys"] == ["Basis", "Dualform Edit"]
+    assert np.array_equal(load(run, "key_basis"), run.rest.astype(np.float32))
+    assert np.abs(load(run, "key_evaluated") - run.expected).max() <= 1e-6 * run.diagonal
+
+
+def test_modal_drag_enter_keeps_the_edit(run):
+    # The drag's last frame starts from the frames before it, so it agrees
+    # with a fresh solve to the solver's tolerance, not bit for bit.
+    assert run.results["modal_enter"] == ["FINISHED"]
+    assert np.abs(load(run, "modal") - run.expected).max() <= 1e-3 * run.diagonal
+
+
+def test_modal_drag_escape_restores_bit_for_bit(run):
+    r = run.results
+    assert r["escape_moved_first"]
+    assert r["modal_escape"] == ["CANCELLED"]
+    assert r["escape_restored_bitwise"]
+
+
+@pytest.fixture(scope="module")
+def modal_ui(run):
+    """The modal drag in a real 3D view under Xvfb, driven by simulated
+    mouse moves, Enter and Escape (modal_ui_checks.py)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("DUALFORM_LIBRARY", "PYTHONPATH")}
+    env.update(BLENDER_USER_SCRIPTS=str(run.work / "user-scripts-ui"),
+               BLENDER_USER_CONFIG=str(run.work / "user-config-ui"))
+    blender = subprocess.run(
+        ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24",
+         os.environ.get("DUALFORM_BLENDER", "blender"), "--factory-startup",
+         "--enable-event-simulate", "--window-geometry", "0", "0", "1280", "800",
+         "--python-exit-code", "1", "--python", str(HERE / "modal_ui_checks.py"), "--",
+         str(run.work / "dualform_blender.zip"), str(run.work / "cow.ply"), str(run.work),
+         str(run.work / "hoof.txt")],
+        capture_output=True, text=True, env=env, timeout=300)
+    assert blender.returncode == 0, blender.stdout + blender.stderr
+    return json.loads((run.work / "modal_ui.json").read_text())
+
+
+def test_modal_drag_in_a_3d_view_follows_the_mouse_and_enter_keeps_it(modal_ui, run):
+    assert modal_ui["invoke"] == [["RUNNING_MODAL"], ["RUNNING_MODAL"]]
+    assert modal_ui["moving_while_dragging"]
+    assert modal_ui["enter_hoof_moved"] > 0.01 * run.diagonal
+    assert modal_ui["enter_outside_moved"] == 0.0
+
+
+def test_modal_drag_in_a_3d_view_escape_restores_bit_for_bit(modal_ui):
+    assert modal_ui["escape_moving_while_dragging"]
+    assert modal_ui["escape_restored_bitwise"]
