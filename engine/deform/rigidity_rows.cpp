@@ -106,7 +106,6 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
             s.vertex[i] = s.vertex[0];
             s.unknown[i] = mesh::no_index;
         }
-        s.pair.fill({s.vertex[0], s.vertex[0]});
         // A rigidity row joins two vertices of f's dual 1-ring, which are
         // all in the dual row.
         auto slot_of = [&](std::uint32_t v) {
@@ -121,7 +120,7 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
             const RowEntry& d = rows.entries[rows.entry_offsets[row] + 1];
             const std::uint8_t sc = slot_of(c.vertex);
             const std::uint8_t sd = slot_of(d.vertex);
-            s.pair[k] = {c.vertex, d.vertex};
+            s.pair_slot[k] = {sc, sd};
             s.pair_weight2[k] = c.coefficient * c.coefficient;
             s.pair_target2 += glm::dot(rest_vectors[first + k], rest_vectors[first + k]);
             for (int x = 0; x < 3; ++x) {
@@ -196,9 +195,10 @@ using SlotLanes = std::array<Lanes, lanes>;
         const std::array<double, 3> rest_dual{scale * s.rest_dual.x, scale * s.rest_dual.y,
                                               scale * s.rest_dual.z};
         std::array<SlotLanes, 3> p;  // by coordinate
+        std::array<glm::dvec3, slots> at;
         for (std::size_t l = 0; l < lanes; ++l) {
-            const glm::dvec3& u = pass.positions[s.vertex[2 * l]];
-            const glm::dvec3& w = pass.positions[s.vertex[2 * l + 1]];
+            const glm::dvec3& u = at[2 * l] = pass.positions[s.vertex[2 * l]];
+            const glm::dvec3& w = at[2 * l + 1] = pass.positions[s.vertex[2 * l + 1]];
             p[0][l] = Lanes{u.x, w.x};
             p[1][l] = Lanes{u.y, w.y};
             p[2][l] = Lanes{u.z, w.z};
@@ -222,7 +222,7 @@ using SlotLanes = std::array<Lanes, lanes>;
             }
         }
         for (std::size_t k = 0; k < pairs; ++k) {
-            const glm::dvec3 edge = pass.positions[s.pair[k][0]] - pass.positions[s.pair[k][1]];
+            const glm::dvec3 edge = at[s.pair_slot[k][0]] - at[s.pair_slot[k][1]];
             rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
         }
         glm::dmat3 covariance;
