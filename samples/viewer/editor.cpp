@@ -98,6 +98,7 @@ bool Editor::open_loaded(dfm_mesh* mesh, const std::string& mesh_spec, int width
     if (!report(dfm_mesh_get_info(mesh_, &info_), "dfm_mesh_get_info")) return false;
     indices_.resize(3 * info_.triangle_count);
     dfm_mesh_read_indices(mesh_, indices_.data(), indices_.size());
+    read_copies();
     reload_rest_pose();
     const dfm_vec3_input positions = {display_.data(), info_.vertex_count, 0, DFM_SCALAR_FLOAT32};
     dfm_camera start = {};
@@ -125,6 +126,18 @@ bool Editor::reopen(const std::string& mesh_spec) {
     const dfm_camera view = camera_.camera();
     return open_loaded(next, mesh_spec, static_cast<int>(view.width),
                        static_cast<int>(view.height));
+}
+
+void Editor::read_copies() {
+    const std::size_t n = info_.vertex_count;
+    lowest_copy_.resize(n);
+    dfm_mesh_read_surface_map(mesh_, lowest_copy_.data(), n);
+    copy_begin_.assign(n + 1, 0);
+    for (std::uint32_t v : lowest_copy_) ++copy_begin_[v + 1];
+    for (std::size_t v = 0; v < n; ++v) copy_begin_[v + 1] += copy_begin_[v];
+    copies_.resize(n);
+    std::vector<std::uint32_t> fill(copy_begin_.begin(), copy_begin_.end() - 1);
+    for (std::uint32_t v = 0; v < n; ++v) copies_[fill[lowest_copy_[v]]++] = v;
 }
 
 void Editor::reload_rest_pose() {
@@ -407,9 +420,14 @@ bool Editor::update() {
         dfm_session_poll(session_, shown_, &info, &is_new);
         dfm_frame_view view = {};
         if (is_new && dfm_session_acquire_frame(session_, &view, &info) == DFM_OK) {
+            // One entry per surface vertex, named by its lowest copy: every
+            // copy of it moves, so no seam opens.
             for (std::size_t i = 0; i < view.roi_count; ++i) {
-                for (int c = 0; c < 3; ++c) {
-                    display_[3 * view.roi_vertices[i] + c] = view.roi_positions[3 * i + c];
+                const std::uint32_t v = view.roi_vertices[i];
+                for (std::uint32_t k = copy_begin_[v]; k < copy_begin_[v + 1]; ++k) {
+                    for (int c = 0; c < 3; ++c) {
+                        display_[3 * copies_[k] + c] = view.roi_positions[3 * i + c];
+                    }
                 }
             }
             dfm_session_release_frame(session_);
@@ -442,6 +460,7 @@ void Editor::refresh_marks() {
     for (const auto& group : groups_) {
         for (std::uint32_t v : group) marks[v] = DFM_VK_MARK_HANDLE;
     }
+    for (std::size_t v = 0; v < marks.size(); ++v) marks[v] = marks[lowest_copy_[v]];
     report(dfm_vk_renderer_set_marks(renderer_, marks.data(), marks.size()),
            "dfm_vk_renderer_set_marks");
 }
@@ -473,11 +492,11 @@ void Editor::refresh_lines() {
         };
         for (std::size_t t = 0; t < info_.triangle_count; ++t) {
             const std::uint32_t* tri = &indices_[3 * t];
-            if (!std::binary_search(roi_vertices_.begin(), roi_vertices_.end(), tri[0]) &&
-                !std::binary_search(roi_vertices_.begin(), roi_vertices_.end(), tri[1]) &&
-                !std::binary_search(roi_vertices_.begin(), roi_vertices_.end(), tri[2])) {
-                continue;
-            }
+            const auto in_roi = [&](std::uint32_t v) {
+                return std::binary_search(roi_vertices_.begin(), roi_vertices_.end(),
+                                          lowest_copy_[v]);
+            };
+            if (!in_roi(tri[0]) && !in_roi(tri[1]) && !in_roi(tri[2])) continue;
             std::size_t crossings = 0;
             for (int e = 0; e < 3; ++e) {
                 const std::uint32_t a = tri[e], b = tri[(e + 1) % 3];
@@ -543,10 +562,11 @@ bool Editor::has_unbaked_edit() const {
                        [](const Matrix& m) { return m != identity(); });
 }
 
-bool Editor::save_mesh(const std::string& path) {
+bool Editor::save_mesh(const std::string& path, const std::string& morph_target) {
     if (has_unbaked_edit()) bake();
     dfm_save_options options = {};
     options.struct_size = sizeof options;
+    options.morph_target_name = morph_target.empty() ? nullptr : morph_target.c_str();
     return report(dfm_mesh_save_with_options(mesh_, path.c_str(), &options),
                   "dfm_mesh_save_with_options");
 }

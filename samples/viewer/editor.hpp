@@ -48,7 +48,10 @@ public:
     bool save_camera(const std::string& path) const;
     // Bakes an unbaked edit, then writes the mesh; the format follows the
     // extension (dfm_mesh_save_with_options).
-    bool save_mesh(const std::string& path);
+    // Saves the rest pose (baking an unbaked edit first). `morph_target`,
+    // when not empty, keeps a glTF asset's positions and adds the edit as a
+    // morph target of that name.
+    bool save_mesh(const std::string& path, const std::string& morph_target = {});
     void set_mesh_output(const std::string& path) { mesh_output_ = path; }
     const std::string& mesh_output() const { return mesh_output_; }
     const std::string& mesh_spec() const { return mesh_spec_; }
@@ -99,6 +102,7 @@ private:
     void cancel_selection();
     bool has_unbaked_edit() const;
     void reload_rest_pose();
+    void read_copies();
     void refresh_marks();
     void refresh_lines();
     Vec3 group_centroid(std::size_t group) const;
@@ -111,6 +115,12 @@ private:
     dfm_mesh* mesh_ = nullptr;
     dfm_mesh_info info_{};
     std::vector<std::uint32_t> indices_;
+    // A glTF mesh's seam-split copies: each vertex's lowest copy (the index
+    // the SDK returns for all of them), and each lowest copy's copies,
+    // copies_[copy_begin_[v] .. copy_begin_[v + 1]).
+    std::vector<std::uint32_t> lowest_copy_;
+    std::vector<std::uint32_t> copy_begin_;
+    std::vector<std::uint32_t> copies_;
     std::vector<float> rest_;     // x y z per vertex, the current rest pose
     std::vector<float> display_;  // what is drawn
     bool display_changed_ = false;

@@ -90,7 +90,7 @@ void InputRouter::key(int key, int action, int mods) {
     if (name == "h" || name == "f1") {
         panel_.toggle_help();
     } else if (name == "s") {
-        editor_.save_mesh(panel_.path());
+        editor_.save_mesh(panel_.path(), panel_.morph_target());
     } else if (!name.empty()) {
         editor_.key(name);
     }

@@ -206,13 +206,19 @@ void Panel::draw_file() {
     remember("open");
     ImGui::SameLine();
     if (ImGui::Button("Save (S)")) {
-        file_message_ = editor_.save_mesh(path_) ? std::string("saved ") + path_ : "";
+        file_message_ =
+            editor_.save_mesh(path_, morph_target_) ? std::string("saved ") + path_ : "";
     }
     remember("save");
     ImGui::SameLine();
     if (ImGui::Button(help_open_ ? "Hide help" : "Help (H)")) toggle_help();
     remember("help");
-    note("The extension picks the format (.off .obj .ply)");
+    ImGui::PushItemWidth(-1);
+    ImGui::InputTextWithHint("##morph", "morph target name (glTF)", morph_target_,
+                             sizeof morph_target_);
+    remember("morph");
+    ImGui::PopItemWidth();
+    note("Format by extension: .off .obj .ply .gltf .glb");
     if (!file_message_.empty()) ImGui::TextWrapped("%s", file_message_.c_str());
 }
 

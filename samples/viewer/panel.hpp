@@ -28,6 +28,7 @@ public:
     void set_path(const std::string& path);
     // The File section's path: what Open reads and Save (and the S key) writes.
     std::string path() const { return path_[0] != '\0' ? path_ : editor_.mesh_output(); }
+    std::string morph_target() const { return morph_target_; }
 
     // Where the control a script names (its script name, README.md) was
     // drawn last frame; false when it was not drawn.
@@ -48,6 +49,7 @@ private:
     Editor& editor_;
     bool help_open_ = false;
     char path_[1024] = {};
+    char morph_target_[128] = {};
     std::string file_message_;
     std::map<std::string, ControlRect> controls_;
 };

@@ -186,8 +186,10 @@ TEST_CASE(
     CHECK(json_number(test::read_text(dir / "edit.json"), "tolerance") == doctest::Approx(1e-5));
     CHECK(json_number(test::read_text(dir / "edit_tight.json"), "tolerance") ==
           doctest::Approx(1e-7));
-    // Bake and Save wrote the edited cow; Undo and Save the cow as it was.
+    // Bake and Save wrote the edited cow (OFF, and glTF by the path's
+    // extension); Undo and Save the cow as it was.
     const mesh::Mesh cow = test::load_real_model("cow").mesh;
     CHECK(moved_vertices(dir / "baked.off", cow) > 50);
+    CHECK(moved_vertices(dir / "baked.glb", cow) > 50);
     CHECK(moved_vertices(dir / "undone.off", cow) == 0);
 }

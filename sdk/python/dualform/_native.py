@@ -89,6 +89,8 @@ class MeshDesc(Structure):
         ("indices", c_void_p),
         ("triangle_count", c_size_t),
         ("index_stride", c_size_t),
+        ("weld", c_int),
+        ("weld_tolerance", c_double),
     ]
 
 
@@ -103,6 +105,7 @@ class MeshInfo(Structure):
         ("boundary_edges", c_size_t),
         ("bake_count", c_size_t),
         ("redo_count", c_size_t),
+        ("surface_vertex_count", c_size_t),
     ]
 
 
@@ -260,6 +263,7 @@ class SaveOptions(Structure):
         ("ply_encoding", c_int),
         ("ply_float", c_bool),
         ("obj_normals", c_bool),
+        ("morph_target_name", c_char_p),
     ]
 
 
@@ -285,6 +289,7 @@ _PROTOTYPES = {
     "dfm_mesh_read_positions": (_R, [_p, POINTER(Vec3Output)]),
     "dfm_mesh_read_indices": (_R, [_p, POINTER(c_uint32), c_size_t]),
     "dfm_mesh_read_indices16": (_R, [_p, POINTER(c_uint16), c_size_t]),
+    "dfm_mesh_read_surface_map": (_R, [_p, POINTER(c_uint32), c_size_t]),
     "dfm_mesh_read_normals": (_R, [_p, POINTER(Vec3Output)]),
     "dfm_mesh_set_positions": (_R, [_p, POINTER(Vec3Input)]),
     "dfm_mesh_undo_bake": (_R, [_p]),

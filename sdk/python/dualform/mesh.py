@@ -36,10 +36,15 @@ class Mesh(Handle):
     # -------------------------------------------------------------- making
 
     @classmethod
-    def from_arrays(cls, context: Context, positions, triangles) -> "Mesh":
+    def from_arrays(cls, context: Context, positions, triangles, *,
+                    weld: Optional[float] = None) -> "Mesh":
         """Copies a mesh from ``positions`` (float32 or float64, shape (n, 3),
         read in place) and ``triangles`` (uint32 (m, 3); other integer types
-        are converted)."""
+        are converted). ``weld`` joins a renderer's seam-split copies of a
+        vertex into one surface vertex: 0 for copies at equal positions, a
+        positive fraction of the bounding-box diagonal for copies that close;
+        None keeps every vertex apart. The arrays' numbering stays the
+        caller's (docs/gltf.md)."""
         pos_in, _kept = _arrays.vec3_input(positions, "positions")
         tri = _arrays.index_array(triangles, "triangles", columns=3)
         desc = _native.MeshDesc()
@@ -47,14 +52,17 @@ class Mesh(Handle):
         desc.positions = pos_in
         desc.indices = tri.ctypes.data
         desc.triangle_count = tri.shape[0]
+        if weld is not None:
+            desc.weld = 1 if weld == 0 else 2
+            desc.weld_tolerance = float(weld)
         out = _out_handle()
         check(_native.lib().dfm_mesh_create(context.pointer, ctypes.byref(desc), ctypes.byref(out)))
         return cls(context, out.value)
 
     @classmethod
     def load(cls, context: Context, path: PathLike) -> "Mesh":
-        """Loads an OFF, OBJ or PLY file, or ``model:NAME`` from the context's
-        models folder."""
+        """Loads an OFF, OBJ, PLY or glTF (.gltf, .glb, ``FILE.glb#mesh=NAME``)
+        file, or ``model:NAME`` from the context's models folder."""
         out = _out_handle()
         check(_native.lib().dfm_mesh_load(context.pointer, os.fsencode(path), ctypes.byref(out)))
         return cls(context, out.value)
@@ -76,14 +84,20 @@ class Mesh(Handle):
         return Mesh(self.context, out.value)
 
     def save(self, path: PathLike, *, ply_encoding: Optional[PlyEncoding] = None,
-             ply_float: bool = False, obj_normals: bool = False) -> None:
-        """Writes the rest pose to .off, .obj or .ply (atomically). PLY is
-        binary little-endian with double coordinates unless told otherwise."""
+             ply_float: bool = False, obj_normals: bool = False,
+             morph_target: Optional[str] = None) -> None:
+        """Writes the rest pose to .off, .obj, .ply, .gltf or .glb
+        (atomically). PLY is binary little-endian with double coordinates
+        unless told otherwise. ``morph_target``: for a mesh loaded from glTF,
+        keep the asset's positions and add the edit as a morph target of
+        that name."""
         options = _native.SaveOptions()
         options.struct_size = ctypes.sizeof(options)
         options.ply_encoding = int(ply_encoding or 0)
         options.ply_float = ply_float
         options.obj_normals = obj_normals
+        name = morph_target.encode() if morph_target else None
+        options.morph_target_name = name
         check(_native.lib().dfm_mesh_save_with_options(self.pointer, os.fsencode(path),
                                                        ctypes.byref(options)))
 
@@ -133,6 +147,14 @@ class Mesh(Handle):
         array = np.empty((m, 3), dtype=np.uint32)
         check(_native.lib().dfm_mesh_read_indices(self.pointer, _arrays.uint32_pointer(array),
                                                   array.size))
+        return array
+
+    def surface_map(self) -> np.ndarray:
+        """For each vertex, the lowest index of its surface vertex (the
+        index the library returns for every seam-split copy of it), uint32."""
+        array = np.empty(self.vertex_count, dtype=np.uint32)
+        check(_native.lib().dfm_mesh_read_surface_map(self.pointer, _arrays.uint32_pointer(array),
+                                                      array.size))
         return array
 
     # -------------------------------------------------------------- history

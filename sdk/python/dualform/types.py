@@ -129,6 +129,7 @@ class MeshInfo:
     boundary_edges: int
     bake_count: int
     redo_count: int
+    surface_vertex_count: int  # after the seam weld; vertex_count without one
 
 
 @dataclass(frozen=True)

@@ -85,3 +85,28 @@ def test_ball_list_all_and_subdivide(cow):
             assert listed.vertices().tolist() == [3, 5, 9]
     with cow.subdivide(1) as fine:
         assert fine.vertex_count > cow.vertex_count
+
+
+def test_seam_split_arrays_weld_and_keep_their_numbering(cow, context, tmp_path):
+    # Every triangle of the cow gets its own three copies, as a renderer
+    # with a UV seam on every edge would hold it: the weld joins them back
+    # into the cow's 2,904 surface vertices, and reads come in the split
+    # numbering, every copy with its surface vertex's position.
+    positions = cow.positions()
+    triangles = cow.triangles()
+    split = positions[triangles.reshape(-1)]
+    corners = np.arange(split.shape[0], dtype=np.uint32).reshape(-1, 3)
+    with dfm.Mesh.from_arrays(context, split, corners, weld=0) as mesh:
+        info = mesh.info
+        assert info.vertex_count == split.shape[0]
+        assert info.surface_vertex_count == cow.vertex_count
+        assert np.array_equal(mesh.positions(), split)
+        lowest = mesh.surface_map()
+        assert np.array_equal(split[lowest], split)
+        assert np.all(lowest <= np.arange(split.shape[0]))
+        mesh.save(tmp_path / "split.glb")
+        with dfm.Mesh.load(context, tmp_path / "split.glb") as back:
+            assert back.info.surface_vertex_count == cow.vertex_count
+            assert np.array_equal(back.positions(), split.astype(np.float32).astype(np.float64))
+    with dfm.Mesh.from_arrays(context, split, corners) as apart:
+        assert apart.info.surface_vertex_count == split.shape[0]
