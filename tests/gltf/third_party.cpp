@@ -1,0 +1,100 @@
+#include "third_party.hpp"
+
+#include <doctest/doctest.h>
+
+#include <regex>
+
+#include "json/json_reader.hpp"
+#include "support/run_process.hpp"
+#include "support/test_files.hpp"
+
+namespace dfm::test::gltf {
+
+namespace {
+
+std::vector<double> numbers(const json::JsonValue& array) {
+    REQUIRE(array.type == json::JsonType::array);
+    std::vector<double> out;
+    out.reserve(array.items.size());
+    for (const json::JsonValue& v : array.items) out.push_back(v.number);
+    return out;
+}
+
+const json::JsonValue& field(const json::JsonValue& v, std::string_view key) {
+    const json::JsonMember* m = v.find(key);
+    REQUIRE_MESSAGE(m != nullptr, "blender_read.py wrote no " << std::string(key));
+    return m->value;
+}
+
+BlenderObject to_object(const json::JsonValue& v) {
+    BlenderObject o;
+    o.name = field(v, "name").text;
+    o.mesh = field(v, "mesh").text;
+    o.vertex_count = static_cast<std::size_t>(field(v, "vertex_count").number);
+    o.local = numbers(field(v, "local"));
+    o.world = numbers(field(v, "world"));
+    for (const json::JsonValue& k : field(v, "shape_keys").items)
+        o.shape_keys.emplace_back(field(k, "name").text, numbers(field(k, "positions")));
+    return o;
+}
+
+}  // namespace
+
+std::filesystem::path asset_path(std::string_view name) {
+    return std::filesystem::path(DUALFORM_GLTF_ASSETS) / std::string(name);
+}
+
+Validation validate(const std::filesystem::path& file) {
+    const ProcessResult r =
+        run_process(DUALFORM_NODE, {DUALFORM_GLTF_SCRIPTS "/validate.mjs", file.string()});
+    return {r.exit_code, r.out + r.err};
+}
+
+int validation_errors(const Validation& v) {
+    static const std::regex counts(R"(: (\d+) errors, \d+ warnings)");
+    std::smatch m;
+    REQUIRE_MESSAGE(std::regex_search(v.report, m, counts), v.report);
+    return std::stoi(m[1].str());
+}
+
+std::vector<std::vector<BlenderObject>> blender_read(
+    const std::vector<std::filesystem::path>& files) {
+    const std::filesystem::path dir = scratch_dir("blender_read");
+    std::vector<std::string> args{"-b",
+                                  "--factory-startup",
+                                  "--python-exit-code",
+                                  "1",
+                                  "--python",
+                                  DUALFORM_GLTF_SCRIPTS "/blender_read.py",
+                                  "--",
+                                  "--axes",
+                                  "gltf"};
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        args.push_back(files[i].string());
+        args.push_back((dir / (std::to_string(i) + ".json")).string());
+    }
+    const ProcessResult r = run_process(DUALFORM_BLENDER, args);
+    REQUIRE_MESSAGE(r.exit_code == 0, "Blender failed:\n" << r.out << r.err);
+    std::vector<std::vector<BlenderObject>> out;
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        const std::filesystem::path json_path = dir / (std::to_string(i) + ".json");
+        json::JsonValue doc;
+        const json::JsonStatus s = json::parse_json(read_text(json_path), json_path.string(), doc);
+        REQUIRE_MESSAGE(s.is_ok(), s.message());
+        std::vector<BlenderObject> objects;
+        for (const json::JsonValue& o : field(doc, "objects").items)
+            objects.push_back(to_object(o));
+        out.push_back(std::move(objects));
+    }
+    return out;
+}
+
+const BlenderObject& blender_object(const std::vector<BlenderObject>& objects,
+                                    std::string_view name) {
+    for (const BlenderObject& o : objects)
+        if (o.name == name) return o;
+    FAIL("Blender imported no object named " << std::string(name));
+    return objects.front();
+}
+
+}  // namespace dfm::test::gltf
