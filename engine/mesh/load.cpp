@@ -5,6 +5,8 @@
 #include <fstream>
 #include <new>
 
+#include "mesh/gltf_io.hpp"
+#include "mesh/host_mesh.hpp"
 #include "mesh/mesh_builder.hpp"
 #include "mesh/readers.hpp"
 
@@ -15,6 +17,7 @@ const char* format_name(FileFormat format) {
         case FileFormat::off: return "OFF";
         case FileFormat::obj: return "OBJ";
         case FileFormat::ply: return "PLY";
+        case FileFormat::gltf: return "glTF";
     }
     return "unknown";
 }
@@ -25,10 +28,12 @@ std::optional<FileFormat> format_from_extension(const std::filesystem::path& pat
     if (ext == ".off") return FileFormat::off;
     if (ext == ".obj") return FileFormat::obj;
     if (ext == ".ply") return FileFormat::ply;
+    if (ext == ".gltf" || ext == ".glb") return FileFormat::gltf;
     return std::nullopt;
 }
 
 std::optional<FileFormat> format_from_content(std::string_view head) {
+    if (head.starts_with("glTF")) return FileFormat::gltf;
     if (head.starts_with("ply\n") || head.starts_with("ply\r\n")) return FileFormat::ply;
     for (std::string_view key : {"OFF", "COFF", "NOFF", "CNOFF", "STOFF", "STCOFF", "STNOFF"}) {
         if (head.starts_with(key) && (head.size() == key.size() || head[key.size()] == ' ' ||
@@ -40,6 +45,18 @@ std::optional<FileFormat> format_from_content(std::string_view head) {
 }
 
 namespace {
+
+// The file a glTF spec names, when the spec is one ("cow.glb#mesh=body");
+// any other path comes back empty.
+std::filesystem::path gltf_file_of(const std::filesystem::path& spec) {
+    std::string file, selector;
+    split_gltf_spec(spec.string(), file, selector);
+    const std::filesystem::path p(file);
+    const auto format = format_from_extension(p);
+    return format == FileFormat::gltf ? p : std::filesystem::path();
+}
+
+}  // namespace
 
 Status read_file_bytes(const std::filesystem::path& path, std::string& bytes) {
     const std::string name = path.string();
@@ -69,8 +86,6 @@ Status read_file_bytes(const std::filesystem::path& path, std::string& bytes) {
     return Status::ok();
 }
 
-}  // namespace
-
 Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view source, Mesh& out,
                   LoadReport* report) {
     out = Mesh{};
@@ -78,12 +93,21 @@ Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view so
     LoadReport& r = report ? *report : local;
     r = LoadReport{};
     try {
+        if (format == FileFormat::gltf) {
+            Mesh host;
+            GltfAsset asset;
+            if (Status s = read_gltf(bytes, source, nullptr, "", host, asset, r); !s) return s;
+            SeamWeld weld;
+            weld_seams(host.positions, host.triangles, {}, out, weld);
+            return Status::ok();
+        }
         MeshBuilder builder(r);
         Status s;
         switch (format) {
             case FileFormat::off: s = read_off(bytes, source, builder); break;
             case FileFormat::obj: s = read_obj(bytes, source, builder); break;
             case FileFormat::ply: s = read_ply(bytes, source, builder); break;
+            case FileFormat::gltf: break;
         }
         if (!s) return s;
         out = builder.take();
@@ -96,14 +120,19 @@ Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view so
 
 Status load_mesh(const std::filesystem::path& path, Mesh& out, LoadReport* report) {
     out = Mesh{};
+    if (format_from_extension(gltf_file_of(path))) {
+        HostMesh host;
+        return load_host_mesh(path, out, host, report);
+    }
     try {
         std::string bytes;
         if (Status s = read_file_bytes(path, bytes); !s) return s;
         std::optional<FileFormat> format = format_from_extension(path);
         if (!format) format = format_from_content(bytes);
         if (!format) {
-            return Status(Errc::unsupported,
-                          path.string() + ": unknown mesh format (expected .off, .obj or .ply)");
+            return Status(
+                Errc::unsupported,
+                path.string() + ": unknown mesh format (expected .off, .obj, .ply, .gltf or .glb)");
         }
         return parse_mesh(bytes, *format, path.string(), out, report);
     } catch (const std::bad_alloc&) {

@@ -12,7 +12,7 @@
 
 namespace dfm::mesh {
 
-enum class FileFormat { off, obj, ply };
+enum class FileFormat { off, obj, ply, gltf };  // gltf: .gltf and .glb
 
 const char* format_name(FileFormat format);
 
@@ -28,17 +28,23 @@ struct LoadReport {
     static constexpr std::size_t max_warnings = 20;
 };
 
-// Loads an OFF, OBJ or PLY file. The format comes from the extension, or from
-// the first bytes when the extension says nothing. On failure `out` is left
+// Loads an OFF, OBJ, PLY or glTF file (.gltf, .glb, optionally with
+// "#mesh=NAME"; split copies welded exactly, see host_mesh.hpp for the host's
+// numbering). The format comes from the extension, or from the first bytes
+// when the extension says nothing. On failure `out` is left
 // empty and the status names the file, the line (or byte offset) and the
 // element. Never throws.
 Status load_mesh(const std::filesystem::path& path, Mesh& out, LoadReport* report = nullptr);
 
-// Parses a mesh held in memory; `source` names it in messages.
+// Parses a mesh held in memory; `source` names it in messages. glTF from
+// bytes may not use external buffers.
 Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view source, Mesh& out,
                   LoadReport* report = nullptr);
 
 std::optional<FileFormat> format_from_extension(const std::filesystem::path& path);
 std::optional<FileFormat> format_from_content(std::string_view head);
+
+// A file's whole contents; the status names the file and what failed.
+Status read_file_bytes(const std::filesystem::path& path, std::string& bytes);
 
 }  // namespace dfm::mesh

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <new>
 
+#include "mesh/gltf_io.hpp"
 #include "mesh/write.hpp"
 
 namespace dfm::mesh {
@@ -12,7 +13,7 @@ Status save_mesh(const std::filesystem::path& path, const Mesh& mesh, const Writ
     const std::optional<FileFormat> format = format_from_extension(path);
     if (!format) {
         return Status(Errc::unsupported,
-                      name + ": unknown mesh format (expected .off, .obj or .ply)");
+                      name + ": unknown mesh format (expected .off, .obj, .ply, .gltf or .glb)");
     }
     try {
         std::string bytes;
@@ -20,7 +21,20 @@ Status save_mesh(const std::filesystem::path& path, const Mesh& mesh, const Writ
             case FileFormat::off: write_off(mesh, bytes); break;
             case FileFormat::obj: write_obj(mesh, options, bytes); break;
             case FileFormat::ply: write_ply(mesh, options, bytes); break;
+            case FileFormat::gltf:
+                write_fresh_gltf(mesh.positions, mesh.triangles,
+                                 path.extension() == ".glb" || path.extension() == ".GLB", bytes);
+                break;
         }
+        return write_file_atomically(path, bytes);
+    } catch (const std::bad_alloc&) {
+        return Status(Errc::out_of_memory, name + ": out of memory while writing");
+    }
+}
+
+Status write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
+    const std::string name = path.string();
+    try {
         std::filesystem::path temp = path;
         temp += ".partial";
         {

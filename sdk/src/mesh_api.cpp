@@ -2,8 +2,10 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <type_traits>
 
 #include "c_boundary.hpp"
+#include "host_numbering.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "mesh/normals.hpp"
@@ -20,12 +22,13 @@ namespace dfm::sdk {
 
 dfm_result make_mesh_handle(const ContextState& context,
                             const std::shared_ptr<const ContextState>& shared, mesh::Mesh mesh,
-                            dfm_mesh** out) {
+                            dfm_mesh** out, mesh::HostMesh host) {
     auto model =
         std::allocate_shared<deform::MeshModel>(HostAllocator<deform::MeshModel>(context.allocator),
                                                 deform::build_mesh_model(std::move(mesh)));
     auto state = std::allocate_shared<MeshState>(HostAllocator<MeshState>(context.allocator));
     state->context = shared;
+    state->host = std::move(host);
     state->model = std::move(model);
     *out = host_new<MeshObject>(context, std::move(state));
     return DFM_OK;
@@ -44,14 +47,17 @@ dfm_result load_mesh_file(const char* function, ContextObject& context, const ch
         return report(function, s);
     }
     mesh::Mesh m;
-    if (Status s = mesh::load_mesh(file, m, &load_report); !s) return report(function, s);
+    mesh::HostMesh host;
+    if (Status s = mesh::load_host_mesh(file, m, host, &load_report); !s) {
+        return report(function, s);
+    }
     for (const std::string& warning : load_report.warnings) {
         context.state->emit(DFM_LOG_WARNING, DFM_LOG_ID_LOAD_WARNING, warning);
     }
     if (m.vertex_count() == 0 || m.face_count() == 0) {
         return report(function, DFM_ERROR_PARSE, file.string() + ": the mesh has no triangles");
     }
-    return make_mesh_handle(*context.state, context.state, std::move(m), out);
+    return make_mesh_handle(*context.state, context.state, std::move(m), out, std::move(host));
 }
 
 }  // namespace dfm::sdk
@@ -81,6 +87,29 @@ Status check_triangles(const mesh::Mesh& m) {
 
 // What struct_size 0 stands for: dfm_mesh_desc as version 0.2 had it.
 constexpr std::size_t mesh_desc_0_2 = DFM_END_OF(dfm_mesh_desc, index_stride);
+
+// The weld a descriptor asks for; the mode read as an integer, since a host
+// may pass any value.
+Status weld_from(const dfm_mesh_desc& d, const mesh::Mesh& host, mesh::WeldOptions& out) {
+    std::underlying_type_t<dfm_weld_mode> mode;
+    std::memcpy(&mode, &d.weld, sizeof mode);
+    switch (mode) {
+        case DFM_WELD_NONE: out.mode = mesh::WeldMode::none; return Status::ok();
+        case DFM_WELD_EXACT: out.mode = mesh::WeldMode::exact; return Status::ok();
+        case DFM_WELD_TOLERANCE: break;
+        default:
+            return Status(Errc::invalid_argument,
+                          "desc->weld: unknown mode " + std::to_string(mode) +
+                              " (DFM_WELD_NONE, _EXACT or _TOLERANCE expected)");
+    }
+    if (!(d.weld_tolerance > 0.0) || !std::isfinite(d.weld_tolerance)) {
+        return Status(Errc::invalid_argument,
+                      "desc->weld_tolerance must be positive and finite with DFM_WELD_TOLERANCE");
+    }
+    out.mode = mesh::WeldMode::tolerance;
+    out.tolerance = d.weld_tolerance * mesh::compute_bounds(host.positions).diagonal();
+    return Status::ok();
+}
 
 }  // namespace
 
@@ -131,7 +160,20 @@ extern "C" DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_me
                         3 * sizeof(std::uint32_t));
         }
         if (Status s = check_triangles(m); !s) return report(fn, s);
-        return make_mesh_handle(*c->state, c->state, std::move(m), out);
+        mesh::WeldOptions weld;
+        if (Status s = weld_from(d, m, weld); !s) return report(fn, s);
+        if (weld.mode == mesh::WeldMode::none) {
+            return make_mesh_handle(*c->state, c->state, std::move(m), out);
+        }
+        mesh::Mesh surface;
+        auto welded = std::make_shared<mesh::SeamWeld>();
+        mesh::weld_seams(m.positions, m.triangles, weld, surface, *welded);
+        if (surface.face_count() == 0) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the weld leaves no triangle");
+        }
+        mesh::HostMesh host;
+        host.weld = std::move(welded);
+        return make_mesh_handle(*c->state, c->state, std::move(surface), out, std::move(host));
     });
 }
 
@@ -155,8 +197,10 @@ extern "C" DFM_API dfm_result dfm_mesh_save(const dfm_mesh* mesh, const char* pa
         MeshObject* m = resolve_mesh(mesh);
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
         if (path == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path is NULL");
-        return guarded(
-            fn, [&] { return report(fn, mesh::save_mesh(path, m->state->current()->mesh)); });
+        return guarded(fn, [&] {
+            return report(fn,
+                          mesh::save_host_mesh(path, m->state->current()->mesh, m->state->host));
+        });
     });
 }
 
@@ -180,7 +224,8 @@ extern "C" DFM_API dfm_result dfm_mesh_get_info(const dfm_mesh* mesh, dfm_mesh_i
             out->redo_count = state.redo.size();
         }
         const mesh::MeshSummary summary = mesh::summarize(model->mesh);
-        out->vertex_count = summary.vertices;
+        out->vertex_count = HostNumbering(state, summary.vertices).host_count();
+        out->surface_vertex_count = summary.vertices;
         out->triangle_count = summary.faces;
         for (int c = 0; c < 3; ++c) {
             out->bounds_min[c] = summary.bounds.min[c];
@@ -200,11 +245,11 @@ extern "C" DFM_API dfm_result dfm_mesh_read_positions(const dfm_mesh* mesh,
         MeshObject* m = resolve_mesh(mesh);
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
         const auto model = m->state->current();
-        const auto& positions = model->mesh.positions;
-        if (std::string e = check_vec3_output(out, positions.size(), "out"); !e.empty()) {
+        const HostNumbering numbering(*m->state, model->mesh.vertex_count());
+        if (std::string e = check_vec3_output(out, numbering.host_count(), "out"); !e.empty()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
         }
-        for (std::size_t i = 0; i < positions.size(); ++i) write_vec3(*out, i, positions[i]);
+        numbering.write_all(*out, model->mesh.positions);
         return DFM_OK;
     });
 }
@@ -217,7 +262,9 @@ extern "C" DFM_API dfm_result dfm_mesh_read_indices(const dfm_mesh* mesh, uint32
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
         if (indices == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "indices is NULL");
         const auto model = m->state->current();
-        const auto& triangles = model->mesh.triangles;
+        const HostNumbering numbering(*m->state, model->mesh.vertex_count());
+        const auto& triangles =
+            numbering.identity() ? model->mesh.triangles : numbering.weld()->host_triangles;
         if (capacity < 3 * triangles.size()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT,
                           "room for " + std::to_string(capacity) + " indices, " +
@@ -235,12 +282,39 @@ extern "C" DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh,
         MeshObject* m = resolve_mesh(mesh);
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
         const auto model = m->state->current();
-        if (std::string e = check_vec3_output(out, model->mesh.vertex_count(), "out"); !e.empty()) {
+        const HostNumbering numbering(*m->state, model->mesh.vertex_count());
+        if (std::string e = check_vec3_output(out, numbering.host_count(), "out"); !e.empty()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
         }
         std::vector<glm::dvec3> normals;
         mesh::compute_vertex_normals(model->mesh, model->mesh.positions, normals);
-        for (std::size_t i = 0; i < normals.size(); ++i) write_vec3(*out, i, normals[i]);
+        numbering.write_all(*out, normals);
+        return DFM_OK;
+    });
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_read_surface_map(const dfm_mesh* mesh, uint32_t* lowest_copy,
+                                                        size_t capacity) {
+    constexpr const char* fn = "dfm_mesh_read_surface_map";
+    return guarded(fn, [&] {
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        if (lowest_copy == nullptr) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "lowest_copy is NULL");
+        }
+        const auto model = m->state->current();
+        const HostNumbering numbering(*m->state, model->mesh.vertex_count());
+        const std::size_t n = numbering.host_count();
+        if (capacity < n) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "room for " + std::to_string(capacity) + " entries, " +
+                              std::to_string(n) + " needed");
+        }
+        for (std::size_t h = 0; h < n; ++h) {
+            lowest_copy[h] = numbering.identity()
+                                 ? static_cast<std::uint32_t>(h)
+                                 : numbering.to_host(numbering.weld()->surface_of[h]);
+        }
         return DFM_OK;
     });
 }
@@ -253,12 +327,14 @@ extern "C" DFM_API dfm_result dfm_mesh_read_indices16(const dfm_mesh* mesh, uint
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
         if (indices == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "indices is NULL");
         const auto model = m->state->current();
-        if (model->mesh.vertex_count() > 65536) {
+        const HostNumbering numbering(*m->state, model->mesh.vertex_count());
+        if (numbering.host_count() > 65536) {
             return report(fn, DFM_ERROR_OUT_OF_RANGE,
-                          "the mesh has " + std::to_string(model->mesh.vertex_count()) +
+                          "the mesh has " + std::to_string(numbering.host_count()) +
                               " vertices, more than 16-bit indices reach (65,536)");
         }
-        const auto& triangles = model->mesh.triangles;
+        const auto& triangles =
+            numbering.identity() ? model->mesh.triangles : numbering.weld()->host_triangles;
         if (capacity < 3 * triangles.size()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT,
                           "room for " + std::to_string(capacity) + " indices, " +
@@ -283,10 +359,11 @@ extern "C" DFM_API dfm_result dfm_mesh_set_positions(dfm_mesh* mesh,
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
         }
         const auto model = m->state->current();
-        if (positions->count != model->mesh.vertex_count()) {
+        const HostNumbering numbering(*m->state, model->mesh.vertex_count());
+        if (positions->count != numbering.host_count()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT,
                           "positions->count is " + std::to_string(positions->count) +
-                              ", the mesh has " + std::to_string(model->mesh.vertex_count()) +
+                              ", the mesh has " + std::to_string(numbering.host_count()) +
                               " vertices");
         }
         std::vector<glm::dvec3> xyz(positions->count);
@@ -297,6 +374,7 @@ extern "C" DFM_API dfm_result dfm_mesh_set_positions(dfm_mesh* mesh,
                               "vertex " + std::to_string(v) + " is not finite; nothing changed");
             }
         }
+        xyz = numbering.surface_positions(xyz);
         auto posed = std::allocate_shared<deform::MeshModel>(
             HostAllocator<deform::MeshModel>(m->state->context->allocator));
         if (Status s = deform::bake_positions(*model, xyz, *posed); !s) return report(fn, s);

@@ -16,6 +16,7 @@
 #include "deform/mesh_model.hpp"
 #include "dualform/dualform.h"
 #include "handle_table.hpp"
+#include "mesh/host_mesh.hpp"
 #include "pick/embree_scene.hpp"
 #include "solver/thread_pool.hpp"
 
@@ -66,6 +67,9 @@ struct HostAllocator {
 // A mesh's history of rest poses: bakes push, undo and redo move between.
 struct MeshState {
     std::shared_ptr<const ContextState> context;
+    // The host's numbering and the glTF asset, fixed for the mesh's life
+    // (bakes move vertices, never renumber them); see host_numbering.hpp.
+    mesh::HostMesh host;
     mutable std::mutex mutex;
     std::shared_ptr<const deform::MeshModel> model;
     std::vector<std::shared_ptr<const deform::MeshModel>> undo;
@@ -127,6 +131,10 @@ struct SessionObject {
     // Of the whole rest pose, computed on the first whole-mesh normal read.
     std::mutex rest_normals_mutex;
     std::vector<glm::dvec3> rest_normals;
+    // The held frame's lists in the host's numbering, on a mesh with split
+    // copies (dfm_session_acquire_frame).
+    std::vector<std::uint32_t> held_roi_vertices;
+    std::vector<std::uint32_t> held_normal_vertices;
     std::unique_ptr<solver::ThreadPool> pool;
     std::unique_ptr<deform::AsyncSession> async;  // last: stopped before the rest goes
 };

@@ -2,6 +2,7 @@
 #include <optional>
 
 #include "c_boundary.hpp"
+#include "host_numbering.hpp"
 #include "objects.hpp"
 #include "pick/pick.hpp"
 #include "pick_camera.hpp"
@@ -31,12 +32,13 @@ Status with_scene(MeshState& state, const std::function<Status(const pick::Embre
 
 namespace {
 
-void fill_hit(const std::optional<pick::Hit>& hit, dfm_hit* out) {
+void fill_hit(const MeshState& state, const std::optional<pick::Hit>& hit, dfm_hit* out) {
     *out = dfm_hit{};
     if (!hit) return;
+    const HostNumbering numbering(state, 0);
     out->hit = true;
-    out->face = hit->face;
-    out->vertex = hit->vertex;
+    out->face = numbering.to_host_face(hit->face);
+    out->vertex = numbering.to_host(hit->vertex);
     for (int c = 0; c < 3; ++c) out->point[c] = hit->point[c];
     out->distance = hit->distance;
     out->barycentric[0] = hit->u;
@@ -65,7 +67,7 @@ extern "C" DFM_API dfm_result dfm_mesh_pick(dfm_mesh* mesh, const dfm_camera* ca
             return pick::pick_pixel(scene, c, {x, y}, hit);
         });
         if (!s) return report(fn, s);
-        fill_hit(hit, out);
+        fill_hit(*m->state, hit, out);
         return DFM_OK;
     });
 }
@@ -96,7 +98,7 @@ extern "C" DFM_API dfm_result dfm_mesh_pick_ray(dfm_mesh* mesh, const double ori
             return pick::pick_ray(scene, ray, hit);
         });
         if (!s) return report(fn, s);
-        fill_hit(hit, out);
+        fill_hit(*m->state, hit, out);
         return DFM_OK;
     });
 }

@@ -11,6 +11,7 @@
 
 #include "c_boundary.hpp"
 #include "deform/quality.hpp"
+#include "host_numbering.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "mesh/subdivide.hpp"
@@ -142,6 +143,10 @@ extern "C" DFM_API dfm_result dfm_mesh_subdivide(const dfm_mesh* mesh, uint32_t 
             return report(fn, DFM_ERROR_INVALID_ARGUMENT,
                           "steps " + std::to_string(steps) + " is not 1, 2 or 3");
         }
+        if (!HostNumbering(*m->state, 0).identity()) {
+            return report(fn, DFM_ERROR_UNSUPPORTED,
+                          "the mesh has split copies (a weld); subdivision would renumber them");
+        }
         mesh::Mesh fine = m->state->current()->mesh;
         for (std::uint32_t k = 0; k < steps; ++k) fine = mesh::subdivide_loop(fine);
         const std::shared_ptr<const ContextState>& context = m->state->context;
@@ -223,7 +228,9 @@ extern "C" DFM_API dfm_result dfm_mesh_save_with_options(const dfm_mesh* mesh, c
             }
             write.ply_double = !o.ply_float;
             write.obj_normals = o.obj_normals;
+            if (o.morph_target_name != nullptr) write.morph_target = o.morph_target_name;
         }
-        return report(fn, mesh::save_mesh(path, m->state->current()->mesh, write));
+        return report(fn,
+                      mesh::save_host_mesh(path, m->state->current()->mesh, m->state->host, write));
     });
 }

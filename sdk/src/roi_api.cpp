@@ -2,6 +2,7 @@
 #include <optional>
 
 #include "c_boundary.hpp"
+#include "host_numbering.hpp"
 #include "objects.hpp"
 #include "pick/pick.hpp"
 #include "pick_camera.hpp"
@@ -28,9 +29,11 @@ roi::SurfaceView surface_of(const deform::MeshModel& model) {
             model.vertex_face_offsets, model.vertex_faces};
 }
 
+// `first` and `last` are surface vertices.
 dfm_result fill(const char* fn, MeshObject* mesh, std::uint32_t first, std::uint32_t last,
                 dfm_roi** out, dfm_water_fill_diagnosis* diagnosis) {
     const auto model = mesh->state->current();
+    const HostNumbering numbering(*mesh->state, model->mesh.vertex_count());
     roi::WaterFill result;
     if (Status s = roi::water_fill(surface_of(*model), first, last, result); !s) {
         return report(fn, s);
@@ -43,8 +46,9 @@ dfm_result fill(const char* fn, MeshObject* mesh, std::uint32_t first, std::uint
     if (result.diagnosis.suspect) {
         mesh->state->context->emit(
             DFM_LOG_WARNING, DFM_LOG_ID_WATER_FILL_SUSPECT,
-            "Water-Filling from vertex " + std::to_string(first) + " to " + std::to_string(last) +
-                " gave " + std::to_string(result.vertices.size()) + " vertices bounded by " +
+            "Water-Filling from vertex " + std::to_string(numbering.to_host(first)) + " to " +
+                std::to_string(numbering.to_host(last)) + " gave " +
+                std::to_string(result.vertices.size()) + " vertices bounded by " +
                 std::to_string(result.diagnosis.loops) +
                 " cut loops: it most likely leaked past the intended part");
     }
@@ -73,7 +77,11 @@ extern "C" DFM_API dfm_result dfm_roi_water_fill(dfm_mesh* mesh, uint32_t first,
         if (diagnosis != nullptr) *diagnosis = dfm_water_fill_diagnosis{};
         MeshObject* m = resolve_mesh(mesh);
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
-        return guarded(fn, [&] { return fill(fn, m, first, last, out, diagnosis); });
+        const HostNumbering numbering(*m->state, m->state->current()->mesh.vertex_count());
+        std::uint32_t a = 0, b = 0;
+        if (Status s = numbering.to_surface(first, "first", a); !s) return report(fn, s);
+        if (Status s = numbering.to_surface(last, "last", b); !s) return report(fn, s);
+        return guarded(fn, [&] { return fill(fn, m, a, b, out, diagnosis); });
     });
 }
 
@@ -129,9 +137,13 @@ extern "C" DFM_API dfm_result dfm_roi_from_vertices(dfm_mesh* mesh, const uint32
         }
         if (count == 0) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the list is empty");
         const auto model = m->state->current();
+        const HostNumbering numbering(*m->state, model->mesh.vertex_count());
+        std::vector<std::uint32_t> surface;
+        if (Status s = numbering.to_surface({vertices, count}, "vertices", surface); !s) {
+            return report(fn, s);
+        }
         std::vector<std::uint32_t> list;
-        if (Status s = roi::select_vertices({vertices, count}, model->mesh.vertex_count(), list);
-            !s) {
+        if (Status s = roi::select_vertices(surface, model->mesh.vertex_count(), list); !s) {
             return report(fn, s);
         }
         return make_roi(m->state, std::move(list), out);
@@ -150,9 +162,15 @@ extern "C" DFM_API dfm_result dfm_roi_ball(dfm_mesh* mesh, uint32_t center, doub
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, "radius must be finite and not negative");
         }
         const auto model = m->state->current();
+        std::uint32_t surface_center = 0;
+        if (Status s = HostNumbering(*m->state, model->mesh.vertex_count())
+                           .to_surface(center, "center", surface_center);
+            !s) {
+            return report(fn, s);
+        }
         std::vector<std::uint32_t> list;
-        if (Status s = roi::select_ball(model->mesh.positions, model->vertex_neighbors, center,
-                                        radius * model->diagonal, list);
+        if (Status s = roi::select_ball(model->mesh.positions, model->vertex_neighbors,
+                                        surface_center, radius * model->diagonal, list);
             !s) {
             return report(fn, s);
         }
@@ -277,6 +295,7 @@ extern "C" DFM_API dfm_result dfm_roi_read(const dfm_roi* roi, uint32_t* vertice
                               std::to_string(region->vertices.size()) + " needed");
         }
         std::copy(region->vertices.begin(), region->vertices.end(), vertices);
+        HostNumbering(*region->mesh, 0).to_host({vertices, region->vertices.size()});
         return DFM_OK;
     });
 }

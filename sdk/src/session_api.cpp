@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "c_boundary.hpp"
+#include "host_numbering.hpp"
 #include "mesh/normals.hpp"
 #include "objects.hpp"
 #include "shared_calls.hpp"
@@ -96,11 +97,12 @@ Status settings_from(const dfm_solver_settings& in, deform::DeformSettings& out)
     return Status::ok();
 }
 
-// The handle groups against the ROI, here on the caller's thread so that
-// create reports them at once: every vertex in range, in the ROI and in one
-// place only.
+// The handle groups (surface vertices) against the ROI, here on the
+// caller's thread so that create reports them at once: every vertex in
+// range, in the ROI and in one place only. Messages name the host's index.
 Status check_groups(std::size_t vertex_count, std::span<const std::uint32_t> roi,
-                    const std::vector<std::vector<std::uint32_t>>& groups) {
+                    const std::vector<std::vector<std::uint32_t>>& groups,
+                    const HostNumbering& numbering) {
     std::vector<std::uint8_t> in_roi(vertex_count, 0);
     for (std::uint32_t v : roi) in_roi[v] = 1;
     constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
@@ -110,7 +112,8 @@ Status check_groups(std::size_t vertex_count, std::span<const std::uint32_t> roi
         for (std::size_t i = 0; i < groups[g].size(); ++i) {
             const std::uint32_t v = groups[g][i];
             const std::string where = "handle group " + std::to_string(g) + " entry " +
-                                      std::to_string(i) + ": vertex " + std::to_string(v);
+                                      std::to_string(i) + ": vertex " +
+                                      std::to_string(v < vertex_count ? numbering.to_host(v) : v);
             if (v >= vertex_count) {
                 return Status(Errc::out_of_range, where + " is out of range (the mesh has " +
                                                       std::to_string(vertex_count) + " vertices)");
@@ -229,7 +232,16 @@ extern "C" DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_sessi
             offsets.push_back(offsets.back() + groups[g].size());
         }
         const auto model = m->state->current();
-        if (Status s = check_groups(model->mesh.vertex_count(), roi->vertices, groups); !s) {
+        const HostNumbering numbering(*m->state, model->mesh.vertex_count());
+        for (std::size_t g = 0; g < groups.size(); ++g) {
+            if (Status s =
+                    numbering.to_surface(groups[g], "handle group " + std::to_string(g), groups[g]);
+                !s) {
+                return report(fn, s);
+            }
+        }
+        if (Status s = check_groups(model->mesh.vertex_count(), roi->vertices, groups, numbering);
+            !s) {
             return report(fn, s);
         }
         dfm_session* handle = host_new<SessionObject>(*m->state->context);
@@ -520,18 +532,19 @@ dfm_result read_whole(const char* fn, dfm_session* session, const dfm_vec3_outpu
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
         const deform::MeshModel& model = s->async->model();
-        if (std::string e = check_vec3_output(out, model.mesh.vertex_count(), "out"); !e.empty()) {
+        const HostNumbering numbering(*s->mesh, model.mesh.vertex_count());
+        if (std::string e = check_vec3_output(out, numbering.host_count(), "out"); !e.empty()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
         }
         const std::span<const glm::dvec3> rest =
             normals ? std::span<const glm::dvec3>(rest_normals(*s)) : model.mesh.positions;
-        write_vec3_range(*out, 0, rest);
+        numbering.write_all(*out, rest);
         s->async->read([&](const deform::Frame& f) {
             const std::span<const std::uint32_t> changing =
                 normals ? f.normal_vertices : s->async->moving();
             const std::vector<glm::dvec3>& values = normals ? f.normals : f.positions;
             for (std::size_t i = 0; i < changing.size(); ++i) {
-                write_vec3(*out, changing[i], values[i]);
+                numbering.write_one(*out, changing[i], values[i]);
             }
             fill_frame_info(f, info);
         });
@@ -573,7 +586,8 @@ extern "C" DFM_API dfm_result dfm_session_read_vertices(dfm_session* session,
         dfm_vertex_output o;
         if (r = read_descriptor(fn, "out", out, vertex_output_0_2, o); r != DFM_OK) return r;
         const deform::MeshModel& model = s->async->model();
-        const std::size_t n = model.mesh.vertex_count();
+        const HostNumbering numbering(*s->mesh, model.mesh.vertex_count());
+        const std::size_t n = numbering.host_count();
         if (o.data == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out->data is NULL");
         if (!o.write_positions && !o.write_normals) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT,
@@ -593,26 +607,36 @@ extern "C" DFM_API dfm_result dfm_session_read_vertices(dfm_session* session,
                               " does not hold 12 bytes at each offset written");
         }
         if (!o.changed_only) {
+            const std::size_t surface = model.mesh.vertex_count();
             if (o.write_positions) {
-                for (std::size_t v = 0; v < n; ++v) {
-                    put_vec3(o, v, o.position_offset, model.mesh.positions[v]);
+                for (std::uint32_t v = 0; v < surface; ++v) {
+                    numbering.for_copies(v, [&](std::uint32_t h) {
+                        put_vec3(o, h, o.position_offset, model.mesh.positions[v]);
+                    });
                 }
             }
             if (o.write_normals) {
                 const std::vector<glm::dvec3>& rest = rest_normals(*s);
-                for (std::size_t v = 0; v < n; ++v) put_vec3(o, v, o.normal_offset, rest[v]);
+                for (std::uint32_t v = 0; v < surface; ++v) {
+                    numbering.for_copies(
+                        v, [&](std::uint32_t h) { put_vec3(o, h, o.normal_offset, rest[v]); });
+                }
             }
         }
         const std::span<const std::uint32_t> moving = s->async->moving();
         s->async->read([&](const deform::Frame& f) {
             if (o.write_positions) {
                 for (std::size_t i = 0; i < moving.size(); ++i) {
-                    put_float3(o, moving[i], o.position_offset, &f.positions_f32[3 * i]);
+                    numbering.for_copies(moving[i], [&](std::uint32_t h) {
+                        put_float3(o, h, o.position_offset, &f.positions_f32[3 * i]);
+                    });
                 }
             }
             if (o.write_normals) {
                 for (std::size_t i = 0; i < f.normal_vertices.size(); ++i) {
-                    put_float3(o, f.normal_vertices[i], o.normal_offset, &f.normals_f32[3 * i]);
+                    numbering.for_copies(f.normal_vertices[i], [&](std::uint32_t h) {
+                        put_float3(o, h, o.normal_offset, &f.normals_f32[3 * i]);
+                    });
                 }
             }
             fill_frame_info(f, info);
@@ -678,6 +702,23 @@ extern "C" DFM_API dfm_result dfm_session_acquire_frame(dfm_session* session, df
         out->roi_count = frame->positions.size();
         out->normals = frame->normals_f32.data();
         out->normal_vertices = frame->normal_vertices.data();
+        const HostNumbering numbering(*s->mesh, s->async->model().mesh.vertex_count());
+        if (!numbering.identity()) {
+            // The lists in the host's numbering, held with the frame (one
+            // frame at a time, so one pair of lists suffices).
+            try {
+                s->held_roi_vertices.assign(s->async->moving().begin(), s->async->moving().end());
+                s->held_normal_vertices.assign(frame->normal_vertices.begin(),
+                                               frame->normal_vertices.end());
+            } catch (...) {
+                s->async->release();
+                throw;
+            }
+            numbering.to_host(s->held_roi_vertices);
+            numbering.to_host(s->held_normal_vertices);
+            out->roi_vertices = s->held_roi_vertices.data();
+            out->normal_vertices = s->held_normal_vertices.data();
+        }
         out->normal_count = frame->normals.size();
         fill_frame_info(*frame, info);
         return DFM_OK;

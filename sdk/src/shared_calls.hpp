@@ -4,15 +4,17 @@
 
 #include "deform/async_session.hpp"
 #include "dualform/dualform.h"
+#include "mesh/host_mesh.hpp"
 #include "mesh/load.hpp"
 #include "objects.hpp"
 
 namespace dfm::sdk {
 
-// A mesh handle over `mesh`, its model and state in the context's memory.
+// A mesh handle over `mesh` (the surface), its model and state in the
+// context's memory; `host` keeps the host's numbering and any glTF asset.
 dfm_result make_mesh_handle(const ContextState& context,
                             const std::shared_ptr<const ContextState>& shared, mesh::Mesh mesh,
-                            dfm_mesh** out);
+                            dfm_mesh** out, mesh::HostMesh host = {});
 
 // dfm_mesh_load's work for `function`: resolves model:NAME through the
 // context's models folder, loads, logs the loader's warnings and fills

@@ -1,6 +1,6 @@
 // libFuzzer target for one mesh loader, chosen at build time by
-// DUALFORM_FUZZ_FORMAT (off, obj or ply): parse_mesh must take any bytes
-// without crashing, hanging or leaking, and keep its contract.
+// DUALFORM_FUZZ_FORMAT (off, obj, ply or gltf: JSON or GLB by the magic): parse_mesh must take any
+// bytes without crashing, hanging or leaking, and keep its contract.
 
 #include <cstddef>
 #include <cstdint>

@@ -17,40 +17,39 @@ namespace {
 
 constexpr const char* usage =
     "usage: dualform deform SCENARIO --out MESH [--report JSON] [--roi-out TXT] [--strict]\n"
-    "       [--hard-handles] [--method fitted_rotations|paper]";
+    "       [--hard-handles] [--method fitted_rotations|paper] [--morph-target NAME]";
 
 double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
         .count();
 }
 
-// The solved shape as a mesh of its own (the triangles of the rest pose), so
-// that the mesh being edited keeps its rest pose.
-Status save_result(const ScenarioMesh& mesh, dfm_session* session, const std::string& path) {
+// The solved shape becomes the scenario mesh's rest pose (the report is
+// measured by then), so that a mesh from glTF is written back into its own
+// asset; `morph_target` non-empty writes the edit as a morph target instead.
+Status save_result(const ScenarioMesh& mesh, dfm_session* session, const std::string& path,
+                   const std::string& morph_target) {
     std::vector<double> positions(3 * mesh.info.vertex_count);
     dfm_vec3_output out = {};
     out.data = positions.data();
     out.count = mesh.info.vertex_count;
     out.type = DFM_SCALAR_FLOAT64;
     if (Status s = api_status(dfm_session_read_positions(session, &out, nullptr)); !s) return s;
-    std::vector<std::uint32_t> indices;
-    if (Status s = read_mesh_indices(mesh, indices); !s) return s;
-    dfm_mesh_desc desc = {};
-    desc.positions.data = positions.data();
-    desc.positions.count = mesh.info.vertex_count;
-    desc.positions.type = DFM_SCALAR_FLOAT64;
-    desc.indices = indices.data();
-    desc.triangle_count = mesh.info.triangle_count;
-    dfm_mesh* result = nullptr;
-    if (Status s = api_status(dfm_mesh_create(mesh.context.get(), &desc, &result)); !s) return s;
-    const MeshPtr owned(result);
-    return api_status(dfm_mesh_save(owned.get(), path.c_str()));
+    dfm_vec3_input in = {};
+    in.data = positions.data();
+    in.count = mesh.info.vertex_count;
+    in.type = DFM_SCALAR_FLOAT64;
+    if (Status s = api_status(dfm_mesh_set_positions(mesh.mesh.get(), &in)); !s) return s;
+    dfm_save_options options = {};
+    options.struct_size = sizeof options;
+    options.morph_target_name = morph_target.empty() ? nullptr : morph_target.c_str();
+    return api_status(dfm_mesh_save_with_options(mesh.mesh.get(), path.c_str(), &options));
 }
 
 }  // namespace
 
 int run_deform(std::span<const std::string_view> args) {
-    std::string scenario_path, out_path, report_path, roi_path;
+    std::string scenario_path, out_path, report_path, roi_path, morph_target;
     bool strict = false;
     bool hard = false;
     std::optional<dfm_method> method;
@@ -67,6 +66,10 @@ int run_deform(std::span<const std::string_view> args) {
             if (!value(report_path)) return bad_input("--report needs a path");
         } else if (a == "--roi-out") {
             if (!value(roi_path)) return bad_input("--roi-out needs a path");
+        } else if (a == "--morph-target") {
+            if (!value(morph_target) || morph_target.empty()) {
+                return bad_input("--morph-target needs a name");
+            }
         } else if (a == "--strict") {
             strict = true;
         } else if (a == "--hard-handles") {
@@ -125,7 +128,9 @@ int run_deform(std::span<const std::string_view> args) {
         return exit_failed;
     }
 
-    if (Status s = save_result(mesh, session.get(), out_path); !s) return bad_input(s.message());
+    if (Status s = save_result(mesh, session.get(), out_path, morph_target); !s) {
+        return bad_input(s.message());
+    }
     if (!roi_path.empty()) {
         if (Status s = write_index_lines(roi_path, edit.roi.vertices); !s) {
             return bad_input(s.message());

@@ -33,6 +33,7 @@ int run_info(std::span<const std::string_view> args) {
     json.begin_object();
     json.field("mesh", spec);
     json.field("vertices", info.vertex_count);
+    json.field("surface_vertices", info.surface_vertex_count);
     json.field("faces", info.triangle_count);
     json.field("edges", summary.edges);
     json.field("boundary_edges", summary.boundary_edges);

@@ -217,15 +217,39 @@ DFM_API void dfm_context_destroy(dfm_context* context);
 
 typedef struct dfm_mesh dfm_mesh;
 
+/* How dfm_mesh_create joins a host's split copies of a vertex (the copies a
+ * renderer keeps for UV, normal or material seams) into one surface vertex. */
+typedef enum dfm_weld_mode {
+    DFM_WELD_NONE = 0,     /* the default: every host vertex is a surface vertex */
+    DFM_WELD_EXACT = 1,    /* copies at bit-identical positions */
+    DFM_WELD_TOLERANCE = 2 /* copies within weld_tolerance of each other */
+} dfm_weld_mode;
+
 /* A triangle mesh from the host's arrays, copied (the host may free its
  * arrays after the call). Indices: triangle t's corners are the three
- * uint32_t at (const char*)indices + t * index_stride (0: packed, 12 bytes). */
+ * uint32_t at (const char*)indices + t * index_stride (0: packed, 12 bytes).
+ *
+ * Host numbering: with a weld, the host's vertices stay the host's. Copies
+ * at one position are joined only where faces around it connect them (two
+ * faces using them share an edge whose two ends are at equal positions), so
+ * two sheets that merely touch at a point stay apart. Picking, ROIs and the
+ * solver work on the surface vertices; every vertex index the API takes may
+ * name any copy and means its surface vertex; every vertex index it returns
+ * (dfm_roi_read, dfm_hit.vertex, the frame view's lists) is the lowest host
+ * index of that surface vertex; positions and normals (mesh and session
+ * reads) come in the host's order and count, each copy with its surface
+ * vertex's value. dfm_mesh_read_surface_map gives every copy's lowest copy.
+ * Files from glTF are numbered the same way (their vertices are the host's). */
 typedef struct dfm_mesh_desc {
     uint32_t struct_size;     /* sizeof(dfm_mesh_desc); see the conventions */
     dfm_vec3_input positions; /* the vertices */
     const uint32_t* indices;  /* three vertex indices per triangle */
     size_t triangle_count;    /* number of triangles */
     size_t index_stride;      /* bytes from one triangle's indices to the next; 0: 12 */
+    dfm_weld_mode weld;       /* split copies joined how; 0: DFM_WELD_NONE */
+    /* DFM_WELD_TOLERANCE: the largest distance between two copies, as a
+     * fraction of the bounding-box diagonal; must be positive and finite. */
+    double weld_tolerance;
 } dfm_mesh_desc;
 
 /* Copies a mesh from host arrays. Errors: NULL arguments, no vertices or
@@ -234,15 +258,25 @@ typedef struct dfm_mesh_desc {
  * *out is owned by the caller. Thread-safe. */
 DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_mesh_desc* desc, dfm_mesh** out);
 
-/* Loads an OFF, OBJ or PLY file, or "model:NAME": NAME.off in the context's
- * models_directory (dfm_context_desc). Errors name the file,
+/* Loads an OFF, OBJ, PLY or glTF 2.0 file (.gltf with embedded or external
+ * buffers, .glb), or "model:NAME": NAME.off in the context's
+ * models_directory (dfm_context_desc). glTF: every triangle primitive of the
+ * default scene, node transforms applied (world space), or of one mesh with
+ * "FILE.glb#mesh=NAME" (or its index), in its own space; split copies are
+ * welded exactly and numbered as the file has them (see dfm_mesh_desc).
+ * Unsupported data (Draco, quantized positions) is refused naming the mesh,
+ * primitive and accessor. Errors name the file,
  * line or byte offset and element. Recoverable defects go to the log
  * (DFM_LOG_ID_LOAD_WARNING). *out is owned by the caller. Thread-safe. */
 DFM_API dfm_result dfm_mesh_load(dfm_context* context, const char* path, dfm_mesh** out);
 
-/* Writes the mesh's current rest pose (after bakes) to an .off, .obj or .ply
- * file, atomically: a failed save leaves an existing file untouched.
- * Thread-safe. */
+/* Writes the mesh's current rest pose (after bakes) to an .off, .obj, .ply,
+ * .gltf or .glb file, atomically: a failed save leaves an existing file
+ * untouched. OFF, OBJ and PLY get the welded surface. glTF gets the host's
+ * vertices: a mesh loaded from glTF is written back into its asset with the
+ * new positions, POSITION bounds, normals and tangents of the moved part,
+ * everything else kept (docs/gltf.md); another mesh gets a fresh minimal
+ * asset. Thread-safe. */
 DFM_API dfm_result dfm_mesh_save(const dfm_mesh* mesh, const char* path);
 
 /* Releases the caller's reference; sessions on the mesh keep it alive. NULL is
@@ -251,15 +285,16 @@ DFM_API void dfm_mesh_destroy(dfm_mesh* mesh);
 
 /* A mesh's figures (dfm_mesh_get_info). */
 typedef struct dfm_mesh_info {
-    size_t vertex_count;   /* vertices of the rest pose */
-    size_t triangle_count; /* triangles */
-    double bounds_min[3];  /* the axis-aligned bounding box's lowest corner */
-    double bounds_max[3];  /* and its highest */
-    double diagonal;       /* of the bounding box: the unit of tolerances */
-    size_t components;     /* connected components */
-    size_t boundary_edges; /* edges with one face */
-    size_t bake_count;     /* bakes that undo can still take back */
-    size_t redo_count;     /* undone bakes that redo can bring back */
+    size_t vertex_count;         /* the host's vertices (split copies counted): what reads fill */
+    size_t triangle_count;       /* triangles */
+    double bounds_min[3];        /* the axis-aligned bounding box's lowest corner */
+    double bounds_max[3];        /* and its highest */
+    double diagonal;             /* of the bounding box: the unit of tolerances */
+    size_t components;           /* connected components */
+    size_t boundary_edges;       /* edges with one face */
+    size_t bake_count;           /* bakes that undo can still take back */
+    size_t redo_count;           /* undone bakes that redo can bring back */
+    size_t surface_vertex_count; /* vertices after the weld; vertex_count without one */
 } dfm_mesh_info;
 
 /* Fills *out with the current rest pose's figures. Thread-safe. */
@@ -290,8 +325,16 @@ DFM_API dfm_result dfm_mesh_get_memory(const dfm_mesh* mesh, dfm_mesh_memory* ou
 DFM_API dfm_result dfm_mesh_read_positions(const dfm_mesh* mesh, const dfm_vec3_output* out);
 
 /* Copies the triangles' vertex indices (3 per triangle) into `indices`,
- * which holds `capacity` uint32_t. Thread-safe. */
+ * which holds `capacity` uint32_t: the host's triangles in the host's
+ * numbering. Thread-safe. */
 DFM_API dfm_result dfm_mesh_read_indices(const dfm_mesh* mesh, uint32_t* indices, size_t capacity);
+
+/* For each host vertex (vertex_count of them), the lowest host index of its
+ * surface vertex: the index the API returns for it, shared by all its split
+ * copies (each vertex's own index on a mesh without a weld). `capacity` is
+ * in entries. Thread-safe. */
+DFM_API dfm_result dfm_mesh_read_surface_map(const dfm_mesh* mesh, uint32_t* lowest_copy,
+                                             size_t capacity);
 
 /* Area-weighted unit vertex normals of the rest pose. Thread-safe. */
 DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh, const dfm_vec3_output* out);
@@ -302,8 +345,8 @@ DFM_API dfm_result dfm_mesh_read_indices16(const dfm_mesh* mesh, uint16_t* indic
                                            size_t capacity);
 
 /* Replaces the rest pose with the host's positions (vertex_count of them;
- * the triangles stay), as a new step of the bake history: undo brings the
- * previous pose back, and what could be redone is forgotten. Sessions
+ * the triangles stay; of split copies the lowest one's position is taken), as a new step of the
+ * bake history: undo brings the previous pose back, and what could be redone is forgotten. Sessions
  * created before keep editing the shape they started from and can no longer
  * bake (DFM_ERROR_BUSY, as after another session's bake): create new ones.
  * A non-finite position is DFM_ERROR_NUMERICAL (the message names the
@@ -653,7 +696,12 @@ typedef struct dfm_frame_view {
 /* Lends the newest frame: the cheapest read, constant time whatever the ROI
  * size. The worker keeps publishing into other buffers meanwhile. One frame
  * may be held per session: a second acquire is DFM_ERROR_BUSY. Other vertices
- * keep their rest positions and normals (dfm_mesh_read_positions). */
+ * keep their rest positions and normals (dfm_mesh_read_positions).
+ * On a mesh with split copies (dfm_mesh_desc) the view holds one entry per
+ * surface vertex: roi_vertices and normal_vertices name each by its lowest
+ * host index, and the host gives that entry's value to every copy
+ * (dfm_mesh_read_surface_map); translating normal_vertices then costs one
+ * pass over them on acquire. */
 DFM_API dfm_result dfm_session_acquire_frame(dfm_session* session, dfm_frame_view* out,
                                              dfm_frame_info* info);
 
@@ -753,8 +801,9 @@ DFM_API dfm_result dfm_session_get_solve_details(dfm_session* session, dfm_solve
 
 /* A new mesh: `steps` (1 to 3) rounds of Loop subdivision of the mesh's
  * current rest pose. The coarse vertices keep their indices, so vertex
- * indices chosen on the coarse mesh keep their meaning. *out is owned by the
- * caller. Thread-safe. */
+ * indices chosen on the coarse mesh keep their meaning. A mesh with split
+ * copies (dfm_mesh_desc) is refused (DFM_ERROR_UNSUPPORTED): its numbering
+ * would not survive. *out is owned by the caller. Thread-safe. */
 DFM_API dfm_result dfm_mesh_subdivide(const dfm_mesh* mesh, uint32_t steps, dfm_mesh** out);
 
 /* What loading a file found besides the mesh (dfm_mesh_load_with_report). */
@@ -798,6 +847,13 @@ typedef struct dfm_save_options {
     dfm_ply_encoding ply_encoding; /* PLY only */
     bool ply_float;                /* PLY coordinates as float (default double, exact) */
     bool obj_normals;              /* OBJ: area-weighted vertex normals, faces as v//vn */
+    /* glTF, for a mesh loaded from glTF: keep the asset's positions and add
+     * the edit (the rest pose minus the asset's positions, and the normals'
+     * change) as a morph target of this name on every primitive of each
+     * mesh it touches, existing targets kept, weights extended with 0 and
+     * mesh.extras.targetNames with the name. NULL or "": write the new
+     * positions instead. Copied during the call. */
+    const char* morph_target_name;
 } dfm_save_options;
 
 /* dfm_mesh_save with options (NULL: the defaults). DFM_ERROR_INVALID_ARGUMENT

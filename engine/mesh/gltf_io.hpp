@@ -1,0 +1,41 @@
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "core/status.hpp"
+#include "mesh/gltf_asset.hpp"
+#include "mesh/load.hpp"
+#include "mesh/mesh.hpp"
+
+namespace dfm::mesh {
+
+// "FILE.glb#mesh=NAME" into the file and NAME; a spec without the fragment
+// leaves `selector` empty.
+void split_gltf_spec(std::string_view spec, std::string& file, std::string& selector);
+
+// Reads a glTF 2.0 document (JSON or binary, told apart by the GLB magic)
+// into the host's vertices and triangles, unwelded, in world space, and the
+// asset a save writes back. `selector` names one mesh (by name, else by
+// index; its own space); empty: the default scene's meshes with their node
+// transforms. `base_dir` is where external buffers are read from; null
+// refuses external buffers. Never throws but for std::bad_alloc.
+Status read_gltf(std::string_view bytes, std::string_view source,
+                 const std::filesystem::path* base_dir, const std::string& selector, Mesh& host,
+                 GltfAsset& asset, LoadReport& report);
+
+// The asset written back with `host_positions` (world space, host order):
+// see docs/gltf.md for what is kept. A non-empty `morph_target` keeps the
+// base positions and adds the edit as a morph target of that name. `binary`
+// writes GLB, else JSON with embedded buffers.
+Status write_gltf(const GltfAsset& asset, std::span<const glm::dvec3> host_positions,
+                  std::span<const Triangle> host_triangles, const std::string& morph_target,
+                  bool binary, std::string& out);
+
+// A fresh, minimal asset for a mesh that did not come from glTF: one node,
+// one mesh, POSITION and NORMAL and 32-bit indices.
+void write_fresh_gltf(std::span<const glm::dvec3> positions, std::span<const Triangle> triangles,
+                      bool binary, std::string& out);
+
+}  // namespace dfm::mesh

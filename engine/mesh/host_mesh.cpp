@@ -1,0 +1,82 @@
+#include "mesh/host_mesh.hpp"
+
+#include <new>
+
+#include "mesh/gltf_io.hpp"
+
+namespace dfm::mesh {
+
+Status load_host_mesh(const std::filesystem::path& spec, Mesh& surface, HostMesh& host,
+                      LoadReport* report, const WeldOptions& weld) {
+    surface = Mesh{};
+    host = HostMesh{};
+    std::string file, selector;
+    split_gltf_spec(spec.string(), file, selector);
+    const std::filesystem::path path(file);
+    if (format_from_extension(path) != FileFormat::gltf) {
+        return load_mesh(spec, surface, report);
+    }
+    LoadReport local;
+    LoadReport& r = report ? *report : local;
+    r = LoadReport{};
+    try {
+        std::string bytes;
+        if (Status s = read_file_bytes(path, bytes); !s) return s;
+        const std::filesystem::path base = path.parent_path().empty() ? "." : path.parent_path();
+        Mesh split;
+        auto asset = std::make_shared<GltfAsset>();
+        if (Status s = read_gltf(bytes, path.string(), &base, selector, split, *asset, r); !s) {
+            return s;
+        }
+        auto welded = std::make_shared<SeamWeld>();
+        weld_seams(split.positions, split.triangles, weld, surface, *welded);
+        host.weld = std::move(welded);
+        host.gltf = std::move(asset);
+        return Status::ok();
+    } catch (const std::bad_alloc&) {
+        surface = Mesh{};
+        host = HostMesh{};
+        return Status(Errc::out_of_memory, path.string() + ": out of memory while loading");
+    }
+}
+
+std::vector<glm::dvec3> host_positions(const Mesh& surface, const HostMesh& host) {
+    if (!host.weld) return surface.positions;
+    std::vector<glm::dvec3> out(host.weld->host_vertex_count());
+    for (std::size_t v = 0; v < out.size(); ++v) {
+        out[v] = surface.positions[host.weld->surface_of[v]];
+    }
+    return out;
+}
+
+Status save_host_mesh(const std::filesystem::path& path, const Mesh& surface, const HostMesh& host,
+                      const WriteOptions& options) {
+    const std::string name = path.string();
+    const bool gltf = format_from_extension(path) == FileFormat::gltf;
+    if (!options.morph_target.empty() && (!gltf || !host.gltf)) {
+        return Status(Errc::unsupported,
+                      name +
+                          ": a morph target is written only to .gltf or .glb, for a mesh "
+                          "loaded from glTF (it is the difference from that asset)");
+    }
+    if (!gltf || !host.weld) return save_mesh(path, surface, options);
+    try {
+        const std::vector<glm::dvec3> positions = host_positions(surface, host);
+        const bool binary = path.extension() == ".glb" || path.extension() == ".GLB";
+        std::string bytes;
+        if (host.gltf) {
+            if (Status s = write_gltf(*host.gltf, positions, host.weld->host_triangles,
+                                      options.morph_target, binary, bytes);
+                !s) {
+                return Status(s.code(), name + ": " + s.message());
+            }
+        } else {
+            write_fresh_gltf(positions, host.weld->host_triangles, binary, bytes);
+        }
+        return write_file_atomically(path, bytes);
+    } catch (const std::bad_alloc&) {
+        return Status(Errc::out_of_memory, name + ": out of memory while writing");
+    }
+}
+
+}  // namespace dfm::mesh

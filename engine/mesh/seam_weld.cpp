@@ -1,0 +1,171 @@
+#include "mesh/seam_weld.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <tuple>
+#include <unordered_map>
+
+namespace dfm::mesh {
+
+namespace {
+
+struct DisjointSets {
+    std::vector<std::uint32_t> parent;
+
+    explicit DisjointSets(std::size_t n) : parent(n) {
+        std::iota(parent.begin(), parent.end(), std::uint32_t{0});
+    }
+    std::uint32_t find(std::uint32_t x) {
+        while (parent[x] != x) {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        return x;
+    }
+    void join(std::uint32_t a, std::uint32_t b) {
+        a = find(a);
+        b = find(b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+};
+
+// One class per position: bit-identical positions share one.
+std::vector<std::uint32_t> exact_classes(std::span<const glm::dvec3> p) {
+    std::vector<std::uint32_t> order(p.size());
+    std::iota(order.begin(), order.end(), std::uint32_t{0});
+    const auto key = [&](std::uint32_t v) { return std::tie(p[v].x, p[v].y, p[v].z); };
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+    std::vector<std::uint32_t> cls(p.size());
+    std::uint32_t next = 0;
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        if (i > 0 && key(order[i]) != key(order[i - 1])) ++next;
+        cls[order[i]] = next;
+    }
+    return cls;
+}
+
+// Positions closer than `tol` share a class (and so, transitively, chains of
+// them): a grid of cells `tol` wide finds the neighbours.
+std::vector<std::uint32_t> tolerance_classes(std::span<const glm::dvec3> p, double tol) {
+    struct CellHash {
+        std::size_t operator()(const std::tuple<long long, long long, long long>& c) const {
+            const auto [x, y, z] = c;
+            return static_cast<std::size_t>(x * 73856093LL ^ y * 19349663LL ^ z * 83492791LL);
+        }
+    };
+    const auto cell_of = [&](const glm::dvec3& q) {
+        return std::make_tuple(static_cast<long long>(std::floor(q.x / tol)),
+                               static_cast<long long>(std::floor(q.y / tol)),
+                               static_cast<long long>(std::floor(q.z / tol)));
+    };
+    std::unordered_map<std::tuple<long long, long long, long long>, std::vector<std::uint32_t>,
+                       CellHash>
+        cells;
+    for (std::uint32_t v = 0; v < p.size(); ++v) cells[cell_of(p[v])].push_back(v);
+    DisjointSets sets(p.size());
+    for (std::uint32_t v = 0; v < p.size(); ++v) {
+        const auto [cx, cy, cz] = cell_of(p[v]);
+        for (long long dx = -1; dx <= 1; ++dx) {
+            for (long long dy = -1; dy <= 1; ++dy) {
+                for (long long dz = -1; dz <= 1; ++dz) {
+                    const auto it = cells.find({cx + dx, cy + dy, cz + dz});
+                    if (it == cells.end()) continue;
+                    for (std::uint32_t w : it->second) {
+                        const glm::dvec3 d = p[v] - p[w];
+                        if (w < v && d.x * d.x + d.y * d.y + d.z * d.z <= tol * tol) {
+                            sets.join(v, w);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    std::vector<std::uint32_t> cls(p.size());
+    for (std::uint32_t v = 0; v < p.size(); ++v) cls[v] = sets.find(v);
+    return cls;
+}
+
+// A face's edge between two position classes, lo < hi, with the host
+// vertices the face uses at each end.
+struct FaceEdge {
+    std::uint32_t lo, hi;
+    std::uint32_t host_lo, host_hi;
+};
+
+}  // namespace
+
+void weld_seams(std::span<const glm::dvec3> host_positions,
+                std::span<const Triangle> host_triangles, const WeldOptions& options, Mesh& surface,
+                SeamWeld& weld) {
+    const std::size_t n = host_positions.size();
+    DisjointSets copies(n);
+    if (options.mode != WeldMode::none) {
+        const std::vector<std::uint32_t> cls =
+            options.mode == WeldMode::tolerance && options.tolerance > 0.0
+                ? tolerance_classes(host_positions, options.tolerance)
+                : exact_classes(host_positions);
+        std::vector<FaceEdge> edges;
+        edges.reserve(3 * host_triangles.size());
+        for (const Triangle& t : host_triangles) {
+            for (int c = 0; c < 3; ++c) {
+                const std::uint32_t a = t[c];
+                const std::uint32_t b = t[(c + 1) % 3];
+                if (cls[a] == cls[b]) continue;
+                edges.push_back(cls[a] < cls[b] ? FaceEdge{cls[a], cls[b], a, b}
+                                                : FaceEdge{cls[b], cls[a], b, a});
+            }
+        }
+        std::sort(edges.begin(), edges.end(), [](const FaceEdge& x, const FaceEdge& y) {
+            return std::tie(x.lo, x.hi) < std::tie(y.lo, y.hi);
+        });
+        for (std::size_t i = 0; i < edges.size();) {
+            std::size_t j = i + 1;
+            while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) {
+                ++j;
+            }
+            // Exactly two faces on a geometric edge: the two sides of one
+            // surface edge. More would be a non-manifold edge, left split.
+            if (j - i == 2) {
+                copies.join(edges[i].host_lo, edges[i + 1].host_lo);
+                copies.join(edges[i].host_hi, edges[i + 1].host_hi);
+            }
+            i = j;
+        }
+    }
+
+    weld = SeamWeld{};
+    weld.surface_of.assign(n, no_index);
+    std::vector<std::uint32_t> surface_of_root(n, no_index);
+    std::uint32_t surfaces = 0;
+    for (std::uint32_t v = 0; v < n; ++v) {
+        const std::uint32_t root = copies.find(v);
+        if (surface_of_root[root] == no_index) surface_of_root[root] = surfaces++;
+        weld.surface_of[v] = surface_of_root[root];
+    }
+    weld.copy_offsets.assign(surfaces + 1, 0);
+    for (std::uint32_t s : weld.surface_of) ++weld.copy_offsets[s + 1];
+    for (std::size_t s = 0; s < surfaces; ++s) weld.copy_offsets[s + 1] += weld.copy_offsets[s];
+    weld.copies.resize(n);
+    std::vector<std::uint32_t> fill(weld.copy_offsets.begin(), weld.copy_offsets.end() - 1);
+    for (std::uint32_t v = 0; v < n; ++v) weld.copies[fill[weld.surface_of[v]]++] = v;
+
+    surface = Mesh{};
+    surface.positions.resize(surfaces);
+    for (std::uint32_t s = 0; s < surfaces; ++s) {
+        surface.positions[s] = host_positions[weld.lowest_copy(s)];
+    }
+    weld.host_triangles.assign(host_triangles.begin(), host_triangles.end());
+    surface.triangles.reserve(host_triangles.size());
+    weld.host_face_of.reserve(host_triangles.size());
+    for (std::size_t t = 0; t < host_triangles.size(); ++t) {
+        Triangle s;
+        for (int c = 0; c < 3; ++c) s[c] = weld.surface_of[host_triangles[t][c]];
+        if (s[0] == s[1] || s[1] == s[2] || s[0] == s[2]) continue;
+        surface.triangles.push_back(s);
+        weld.host_face_of.push_back(static_cast<std::uint32_t>(t));
+    }
+}
+
+}  // namespace dfm::mesh
