@@ -208,6 +208,42 @@ TEST_CASE("round trip: an edit saved as glTF is what headless Blender imports") 
         expected_world.push_back(transformed(mesh_world_matrix(asset, cow), deformed));
     }
 
+    // The whole scene, in world space: its meshes in the scene's depth-first
+    // order (the ball, then the cow), node transforms applied.
+    const Asset scene = read_asset(asset_path("scene.glb"));
+    const std::size_t ball = mesh_index(scene, "Ball");
+    const std::size_t cow = mesh_index(scene, "Cow");
+    const std::vector<double> ball_world =
+        transformed(mesh_world_matrix(scene, ball), mesh_positions(scene, ball));
+    std::vector<double> scene_world = ball_world;
+    const std::vector<double> cow_world =
+        transformed(mesh_world_matrix(scene, cow), mesh_positions(scene, cow));
+    scene_world.insert(scene_world.end(), cow_world.begin(), cow_world.end());
+    const MeshPtr whole = load_mesh(context.get(), asset_path("scene.glb"));
+    const double d = diagonal(whole.get());
+    CHECK(max_distance(rest_positions(whole.get()), scene_world) < 1e-12 * d);
+    LimbEdit step =
+        on_cow(load_mesh(context.get(), asset_path("scene.glb#mesh=Cow")).get(), leg_step);
+    const auto offset = static_cast<std::uint32_t>(ball_world.size() / 3);
+    step.first += offset;
+    step.last += offset;
+    step.handle += offset;
+    edit_limb(whole.get(), step, true);
+    const std::vector<double> deformed = rest_positions(whole.get());
+    CHECK(max_distance(deformed, scene_world) > 0.01 * d);
+    const std::filesystem::path out = dir / "scene-world-step.glb";
+    REQUIRE_MESSAGE(dfm_mesh_save(whole.get(), out.c_str()) == DFM_OK, failure());
+    check_valid(out);
+    const Asset saved = read_asset(out);
+    std::vector<double> saved_world =
+        transformed(mesh_world_matrix(saved, ball), mesh_positions(saved, ball));
+    const std::vector<double> saved_cow =
+        transformed(mesh_world_matrix(saved, cow), mesh_positions(saved, cow));
+    saved_world.insert(saved_world.end(), saved_cow.begin(), saved_cow.end());
+    CHECK(max_distance(saved_world, deformed) < 1e-6 * d);
+    files.push_back(out);
+    expected_world.push_back({deformed.begin() + 3 * offset, deformed.end()});
+
     const auto read = blender_read(files);
     for (std::size_t f = 0; f < files.size(); ++f) {
         CAPTURE(files[f]);
@@ -217,11 +253,8 @@ TEST_CASE("round trip: an edit saved as glTF is what headless Blender imports") 
         CHECK(max_distance(cow.world, expected_world[f]) < 1e-5);
     }
     // The ball of the scene did not move.
-    const Asset scene = read_asset(asset_path("scene.glb"));
-    const std::size_t ball = mesh_index(scene, "Ball");
-    CHECK(max_distance(blender_object(read[1], "Ball").world,
-                       transformed(mesh_world_matrix(scene, ball), mesh_positions(scene, ball))) <
-          1e-5);
+    CHECK(max_distance(blender_object(read[1], "Ball").world, ball_world) < 1e-5);
+    CHECK(max_distance(blender_object(read[2], "Ball").world, ball_world) < 1e-5);
 }
 
 TEST_CASE("morph target: the edit as a target, the existing one kept, weight 1 gives the edit") {
