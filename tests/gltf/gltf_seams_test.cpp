@@ -1,5 +1,6 @@
 // Issue 15, "done when" 1: a glTF that Blender exported with UV seams loads
-// through the C API, two vertices select a limb by Water-Filling, the edit
+// through the C API, two vertices, or two clicks through a camera, select a
+// limb by Water-Filling (the same limb as on the welded OFF), the edit
 // leaves no crack at any seam (every split copy of a surface vertex lands at
 // the same position) and equals the same edit of the welded OFF surface.
 #include <doctest/doctest.h>
@@ -8,6 +9,10 @@
 #include <cmath>
 #include <set>
 #include <string>
+#include <utility>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "gltf_file.hpp"
 #include "limb_edit.hpp"
@@ -17,6 +22,11 @@
 using namespace dfm::test::gltf;
 
 namespace {
+
+struct RoiPtr {
+    dfm_roi* roi = nullptr;
+    ~RoiPtr() { dfm_roi_destroy(roi); }
+};
 
 std::vector<std::uint32_t> read_triangles(const dfm_mesh* mesh) {
     dfm_mesh_info info{};
@@ -36,6 +46,54 @@ MeshPtr create_welded(dfm_context* context, const Surface& s) {
     dfm_mesh* m = nullptr;
     REQUIRE_MESSAGE(dfm_mesh_create(context, &desc, &m) == DFM_OK, dfm_last_error_message());
     return MeshPtr(m);
+}
+
+std::vector<std::uint32_t> roi_vertices(const dfm_roi* roi) {
+    std::size_t n = 0;
+    REQUIRE(dfm_roi_count(roi, &n) == DFM_OK);
+    std::vector<std::uint32_t> out(n);
+    REQUIRE(dfm_roi_read(roi, out.data(), n) == DFM_OK);
+    return out;
+}
+
+// A camera looking at the limb from outside it (along `first`'s normal),
+// and the pixels where it sees `first` and `last`.
+struct Clicks {
+    dfm_camera camera{};
+    double first[2] = {};
+    double last[2] = {};
+};
+
+glm::dvec3 vec(const double* p) {
+    return {p[0], p[1], p[2]};
+}
+
+Clicks clicks_on(const dfm_mesh* welded, const std::vector<double>& rest, const LimbEdit& e) {
+    dfm_mesh_info info{};
+    REQUIRE(dfm_mesh_get_info(welded, &info) == DFM_OK);
+    std::vector<double> normals(rest.size());
+    const dfm_vec3_output o{normals.data(), info.vertex_count, 0, DFM_SCALAR_FLOAT64};
+    REQUIRE(dfm_mesh_read_normals(welded, &o) == DFM_OK);
+    const glm::dvec3 a = vec(rest.data() + 3 * e.first), b = vec(rest.data() + 3 * e.last);
+    const glm::dvec3 target = 0.5 * (a + b);
+    const glm::dvec3 eye =
+        target + info.diagonal * glm::normalize(vec(normals.data() + 3 * e.first) +
+                                                vec(normals.data() + 3 * e.last));
+    const glm::dvec3 forward = glm::normalize(target - eye);
+    const glm::dvec3 up = std::abs(forward.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+    Clicks c;
+    c.camera = {
+        {eye.x, eye.y, eye.z}, {target.x, target.y, target.z}, {up.x, up.y, up.z}, 30.0, 800, 600};
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, up));
+    const glm::dvec3 image_up = glm::cross(right, forward);
+    const double t = std::tan(glm::radians(15.0));
+    for (auto [p, px] : {std::pair{a, c.first}, std::pair{b, c.last}}) {
+        const glm::dvec3 d = p - eye;
+        const double z = glm::dot(d, forward);
+        px[0] = 400.0 * (1.0 + glm::dot(d, right) / (z * t * 800.0 / 600.0));
+        px[1] = 300.0 * (1.0 - glm::dot(d, image_up) / (z * t));
+    }
+    return c;
 }
 
 const double* at(const std::vector<double>& p, std::uint32_t v) {
@@ -98,6 +156,18 @@ void check_seamless_edit(const char* gltf_name, const char* off_name, const Limb
     for (std::uint32_t v : got.handles) handles.insert(surface[v]);
     CHECK(roi == std::set<std::uint32_t>(expected.roi.begin(), expected.roi.end()));
     CHECK(handles == std::set<std::uint32_t>(expected.handles.begin(), expected.handles.end()));
+
+    // Two clicks select the same limb on either mesh.
+    const Clicks clicks = clicks_on(welded.get(), welded_rest, edit);
+    RoiPtr welded_click, split_click;
+    REQUIRE(dfm_roi_water_fill_clicks(welded.get(), &clicks.camera, clicks.first, clicks.last,
+                                      &welded_click.roi, nullptr) == DFM_OK);
+    REQUIRE(dfm_roi_water_fill_clicks(split.get(), &clicks.camera, clicks.first, clicks.last,
+                                      &split_click.roi, nullptr) == DFM_OK);
+    CHECK(roi_vertices(welded_click.roi) == expected.roi);
+    std::set<std::uint32_t> clicked;
+    for (std::uint32_t v : roi_vertices(split_click.roi)) clicked.insert(surface[v]);
+    CHECK(clicked == roi);
 
     // No crack: the copies of one surface vertex stay together.
     std::vector<std::uint32_t> first_copy(welded_rest.size() / 3, UINT32_MAX);
