@@ -6,6 +6,8 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <new>
+#include <stdexcept>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -451,11 +453,20 @@ Status read_gltf(std::string_view bytes, std::string_view source,
     const bool binary = bytes.size() >= 4 && bytes.substr(0, 4) == "glTF";
     const std::string dir = base_dir != nullptr ? base_dir->string() : std::string();
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-    const bool ok = binary
-                        ? loader.LoadBinaryFromMemory(&model, &err, &warn, data,
-                                                      static_cast<unsigned int>(bytes.size()), dir)
-                        : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
-                                                     static_cast<unsigned int>(bytes.size()), dir);
+    bool ok = false;
+    // tinygltf parses without exceptions, but its JSON library may still
+    // throw on a value of the wrong type; that is the file's fault.
+    try {
+        ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data,
+                                                  static_cast<unsigned int>(bytes.size()), dir)
+                    : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
+                                                 static_cast<unsigned int>(bytes.size()), dir);
+    } catch (const std::bad_alloc&) {
+        throw;
+    } catch (const std::exception& e) {
+        err = e.what();
+        ok = false;
+    }
     if (!ok) {
         return Status(Errc::parse_error, name + ": not a valid glTF 2.0 " +
                                              (binary ? "GLB" : "document") + ": " +

@@ -224,9 +224,11 @@ extern "C" DFM_API dfm_result dfm_mesh_get_info(const dfm_mesh* mesh, dfm_mesh_i
             out->redo_count = state.redo.size();
         }
         const mesh::MeshSummary summary = mesh::summarize(model->mesh);
-        out->vertex_count = HostNumbering(state, summary.vertices).host_count();
+        const HostNumbering numbering(state, summary.vertices);
+        out->vertex_count = numbering.host_count();
         out->surface_vertex_count = summary.vertices;
-        out->triangle_count = summary.faces;
+        out->triangle_count =
+            numbering.identity() ? summary.faces : numbering.weld()->host_triangles.size();
         for (int c = 0; c < 3; ++c) {
             out->bounds_min[c] = summary.bounds.min[c];
             out->bounds_max[c] = summary.bounds.max[c];

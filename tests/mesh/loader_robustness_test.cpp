@@ -4,6 +4,7 @@
 #include <random>
 #include <string>
 
+#include "mesh/gltf_io.hpp"
 #include "mesh/load.hpp"
 #include "mesh/write.hpp"
 #include "support/procedural_meshes.hpp"
@@ -32,6 +33,10 @@ std::vector<Encoded> encodings() {
          {PlyEncoding::ascii, PlyEncoding::binary_little_endian, PlyEncoding::binary_big_endian}) {
         write_ply(m, {.ply_encoding = e, .ply_double = false}, bytes);
         out.push_back({"limb.ply", FileFormat::ply, bytes});
+    }
+    for (const bool binary : {true, false}) {
+        write_fresh_gltf(m.positions, m.triangles, binary, bytes);
+        out.push_back({binary ? "limb.glb" : "limb.gltf", FileFormat::gltf, bytes});
     }
     return out;
 }

@@ -7,10 +7,14 @@
 #include <vector>
 
 #include "environment/host_environment.hpp"
+#include "mesh/gltf_io.hpp"
+#include "mesh/host_mesh.hpp"
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "pick/pick.hpp"
+#include "support/gltf_builder.hpp"
 #include "support/model_variants.hpp"
+#include "support/procedural_meshes.hpp"
 #include "support/run_process.hpp"
 #include "support/test_files.hpp"
 
@@ -414,4 +418,72 @@ TEST_CASE("dualform roi: water_fill_clicks replays the water_fill ROI") {
     CHECK(r.exit_code == 2);
     CHECK(r.err.find("roi.water_fill_clicks.first: the click at [32, 24] hits nothing") !=
           std::string::npos);
+}
+
+TEST_CASE("dualform deform: a glTF mesh by #mesh=, written back and as a morph target") {
+    const auto dir = dfm::test::scratch_dir("cli_gltf");
+    const dfm::mesh::Mesh limb = dfm::test::split_corners(dfm::test::make_limb(12, 8, 0.2, 2.0),
+                                                          [](std::size_t t) { return t % 2 == 0; });
+    dfm::test::GltfBuilder b;
+    b.positions(dfm::test::float_positions(limb));
+    std::vector<std::uint32_t> idx;
+    for (const auto& t : limb.triangles) idx.insert(idx.end(), t.begin(), t.end());
+    b.indices_u32(idx);
+    b.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    b.members =
+        R"("meshes":[{"name":"limb","primitives":[{"attributes":{"POSITION":0},"indices":1}]},)"
+        R"({"name":"sail","primitives":[{"attributes":{"POSITION":2}}]}],)"
+        R"("scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0},{"mesh":1}])";
+    dfm::test::write_text(dir / "limb.glb", b.glb());
+    // The tip's centre by its last copy: any copy names the surface vertex.
+    std::uint32_t tip = 0;
+    for (std::uint32_t v = 0; v < limb.vertex_count(); ++v) {
+        if (limb.positions[v] == glm::dvec3(0, 2, 0)) tip = v;
+    }
+    REQUIRE(tip >= dfm::test::make_limb(12, 8, 0.2, 2.0).vertex_count());
+    dfm::test::write_text(dir / "bend.json",
+                          R"({"mesh": ")" + (dir / "limb.glb").string() +
+                              R"(#mesh=limb", "roi": {"ball": {"center": )" + std::to_string(tip) +
+                              R"(, "radius": 0.5}}, "handles": [{"vertices": [)" +
+                              std::to_string(tip) + R"(], "translate": [0.1, 0, 0]}]})");
+    auto r =
+        dualform({"deform", (dir / "bend.json").string(), "--out", (dir / "bent.glb").string()});
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(field(r.out, "n_vertices") == std::to_string(limb.vertex_count()));
+    dfm::mesh::Mesh bent;
+    dfm::mesh::HostMesh host;
+    REQUIRE(dfm::mesh::load_host_mesh(dir / "bent.glb", bent, host));
+    CHECK(host.weld->host_vertex_count() == limb.vertex_count() + 3);  // the sail too
+    // No crack: every copy of the tip's centre lands where the tip went.
+    std::string written;
+    REQUIRE(dfm::mesh::read_file_bytes(dir / "bent.glb", written));
+    dfm::mesh::Mesh raw;
+    dfm::mesh::GltfAsset asset;
+    dfm::mesh::LoadReport loaded;
+    REQUIRE(dfm::mesh::read_gltf(written, "bent.glb", nullptr, "limb", raw, asset, loaded));
+    CHECK(raw.positions[tip].x > 0.1);
+    for (std::uint32_t v = 0; v < limb.vertex_count(); ++v) {
+        if (limb.positions[v] == limb.positions[tip]) CHECK(raw.positions[v] == raw.positions[tip]);
+    }
+
+    r = dualform({"deform", (dir / "bend.json").string(), "--out", (dir / "morph.glb").string(),
+                  "--morph-target", "bend"});
+    REQUIRE(r.exit_code == 0);
+    std::string bytes;
+    REQUIRE(dfm::mesh::read_file_bytes(dir / "morph.glb", bytes));
+    CHECK(bytes.find(R"("targetNames":["bend"])") != std::string::npos);
+    CHECK(bytes.find(R"("targets":[{"POSITION")") != std::string::npos);
+
+    r = dualform({"info", (dir / "limb.glb").string() + "#mesh=limb"});
+    REQUIRE(r.exit_code == 0);
+    CHECK(field(r.out, "vertices") == std::to_string(limb.vertex_count()));
+    CHECK(field(r.out, "surface_vertices") ==
+          std::to_string(dfm::test::make_limb(12, 8, 0.2, 2.0).vertex_count()));
+    CHECK(field(r.out, "closed") == "true");
+
+    r = dualform({"deform", (dir / "bend.json").string(), "--out", (dir / "x.off").string(),
+                  "--morph-target", "bend"});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("a morph target is written only to .gltf or .glb") != std::string::npos);
 }

@@ -124,7 +124,10 @@ Status refresh_scenario_mesh(ScenarioMesh& mesh) {
     positions.data = mesh.rest.data();
     positions.count = mesh.rest.size();
     positions.type = DFM_SCALAR_FLOAT64;
-    return api_status(dfm_mesh_read_positions(mesh.mesh.get(), &positions));
+    if (Status s = api_status(dfm_mesh_read_positions(mesh.mesh.get(), &positions)); !s) return s;
+    mesh.lowest_copy.resize(mesh.info.vertex_count);
+    return api_status(dfm_mesh_read_surface_map(mesh.mesh.get(), mesh.lowest_copy.data(),
+                                                mesh.lowest_copy.size()));
 }
 
 Status read_mesh_indices(const ScenarioMesh& mesh, std::vector<std::uint32_t>& out) {
@@ -212,7 +215,7 @@ Status resolve_scenario_edit(const Scenario& scenario, const ScenarioMesh& mesh,
             group = spec.vertices;
         }
         for (std::uint32_t v : group) {
-            if (!std::binary_search(roi.begin(), roi.end(), v)) {
+            if (!std::binary_search(roi.begin(), roi.end(), mesh.lowest_copy[v])) {
                 return Status(DFM_ERROR_INVALID_ARGUMENT,
                               what + ": vertex " + std::to_string(v) + " is outside the ROI");
             }

@@ -20,6 +20,9 @@ struct ScenarioMesh {
     MeshPtr mesh;
     dfm_mesh_info info{};
     std::vector<glm::dvec3> rest;  // the rest positions
+    // Each vertex's lowest split copy (dfm_mesh_read_surface_map): the
+    // index ROI reads give for it.
+    std::vector<std::uint32_t> lowest_copy;
 };
 
 Status open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out,

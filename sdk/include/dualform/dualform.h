@@ -286,7 +286,7 @@ DFM_API void dfm_mesh_destroy(dfm_mesh* mesh);
 /* A mesh's figures (dfm_mesh_get_info). */
 typedef struct dfm_mesh_info {
     size_t vertex_count;         /* the host's vertices (split copies counted): what reads fill */
-    size_t triangle_count;       /* triangles */
+    size_t triangle_count;       /* the host's triangles, as dfm_mesh_read_indices gives them */
     double bounds_min[3];        /* the axis-aligned bounding box's lowest corner */
     double bounds_max[3];        /* and its highest */
     double diagonal;             /* of the bounding box: the unit of tolerances */
