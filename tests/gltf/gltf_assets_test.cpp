@@ -144,7 +144,7 @@ TEST_CASE("assets: the Khronos validator accepts Blender's exports and rejects b
         CHECK(v.exit_code == 0);
         CHECK(validation_errors(v) == 0);
     }
-    const std::filesystem::path dir = scratch_dir("gltf_validator");
+    const std::filesystem::path dir = scratch_dir("blender_validator");
     const std::string glb = read_text(asset_path("cow.glb"));
     write_text(dir / "truncated.glb", glb.substr(0, glb.size() / 2));
     std::string gltf = read_text(asset_path("cow.gltf"));
@@ -160,7 +160,7 @@ TEST_CASE("assets: the Khronos validator accepts Blender's exports and rejects b
 
 TEST_CASE("assets: headless Blender imports them in the file's vertex order") {
     const std::vector<std::filesystem::path> files{asset_path("cow.glb"), asset_path("scene.glb")};
-    const auto read = blender_read(files);
+    const auto read = blender_read(files, scratch_dir("blender_import"));
     REQUIRE(read.size() == 2);
     {
         const Asset a = read_asset(files[0]);

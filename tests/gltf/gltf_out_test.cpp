@@ -125,7 +125,7 @@ LimbEdit on_cow(const dfm_mesh* mesh, const LimbEdit& edit) {
 }  // namespace
 
 TEST_CASE("round trip: a save without an edit keeps every other accessor byte for byte") {
-    const std::filesystem::path dir = scratch_dir("gltf_round_trip");
+    const std::filesystem::path dir = scratch_dir("blender_round_trip");
     struct Case {
         const char* in;
         const char* asset;
@@ -170,7 +170,7 @@ TEST_CASE("round trip: a save without an edit keeps every other accessor byte fo
 }
 
 TEST_CASE("round trip: an edit saved as glTF is what headless Blender imports") {
-    const std::filesystem::path dir = scratch_dir("gltf_edit");
+    const std::filesystem::path dir = scratch_dir("blender_edit");
     const ContextPtr context = make_context();
     std::vector<std::filesystem::path> files;
     std::vector<std::vector<double>> expected_world;
@@ -244,7 +244,7 @@ TEST_CASE("round trip: an edit saved as glTF is what headless Blender imports") 
     files.push_back(out);
     expected_world.push_back({deformed.begin() + 3 * offset, deformed.end()});
 
-    const auto read = blender_read(files);
+    const auto read = blender_read(files, dir);
     for (std::size_t f = 0; f < files.size(); ++f) {
         CAPTURE(files[f]);
         const BlenderObject& cow = blender_object(read[f], "Cow");
@@ -258,7 +258,7 @@ TEST_CASE("round trip: an edit saved as glTF is what headless Blender imports") 
 }
 
 TEST_CASE("morph target: the edit as a target, the existing one kept, weight 1 gives the edit") {
-    const std::filesystem::path dir = scratch_dir("gltf_morph");
+    const std::filesystem::path dir = scratch_dir("blender_morph");
     const ContextPtr context = make_context();
     const Asset original = read_asset(asset_path("scene.glb"));
     const JsonValue& original_prim = cow_primitive(original);
@@ -313,7 +313,7 @@ TEST_CASE("morph target: the edit as a target, the existing one kept, weight 1 g
     CHECK(member(cow_primitive(swing), "targets").items.size() == 3);
 
     // Blender sees the targets as shape keys.
-    const auto read = blender_read({dir / "swing.glb"});
+    const auto read = blender_read({dir / "swing.glb"}, dir);
     const BlenderObject& cow = blender_object(read[0], "Cow");
     REQUIRE(cow.shape_keys.size() == 4);
     CHECK(cow.shape_keys[0].first == "Basis");
@@ -326,7 +326,7 @@ TEST_CASE("morph target: the edit as a target, the existing one kept, weight 1 g
 }
 
 TEST_CASE("morph target: dualform deform --morph-target on a glTF scenario") {
-    const std::filesystem::path dir = scratch_dir("gltf_cli_morph");
+    const std::filesystem::path dir = scratch_dir("blender_cli_morph");
     const ContextPtr context = make_context();
     const MeshPtr mesh = load_mesh(context.get(), asset_path("scene.glb#mesh=Cow"));
     const LimbEdit e = on_cow(mesh.get(), leg_step);

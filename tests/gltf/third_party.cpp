@@ -58,8 +58,7 @@ int validation_errors(const Validation& v) {
 }
 
 std::vector<std::vector<BlenderObject>> blender_read(
-    const std::vector<std::filesystem::path>& files) {
-    const std::filesystem::path dir = scratch_dir("blender_read");
+    const std::vector<std::filesystem::path>& files, const std::filesystem::path& dir) {
     std::vector<std::string> args{"-b",
                                   "--factory-startup",
                                   "--python-exit-code",

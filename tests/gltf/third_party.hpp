@@ -38,9 +38,10 @@ struct BlenderObject {
 };
 
 // The mesh objects of each file, imported by one headless Blender run,
-// sorted by object name.
+// sorted by object name; Blender's JSON goes into the folder `scratch`
+// (the caller's own: tests may run at the same time).
 std::vector<std::vector<BlenderObject>> blender_read(
-    const std::vector<std::filesystem::path>& files);
+    const std::vector<std::filesystem::path>& files, const std::filesystem::path& scratch);
 
 // The object named `name`; fails the test when absent.
 const BlenderObject& blender_object(const std::vector<BlenderObject>& objects,
