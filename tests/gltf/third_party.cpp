@@ -2,7 +2,7 @@
 
 #include <doctest/doctest.h>
 
-#include <regex>
+#include <cctype>
 
 #include "json/json_reader.hpp"
 #include "support/run_process.hpp"
@@ -51,10 +51,14 @@ Validation validate(const std::filesystem::path& file) {
 }
 
 int validation_errors(const Validation& v) {
-    static const std::regex counts(R"(: (\d+) errors, \d+ warnings)");
-    std::smatch m;
-    REQUIRE_MESSAGE(std::regex_search(v.report, m, counts), v.report);
-    return std::stoi(m[1].str());
+    // The counts line: "validate: FILE: N errors, N warnings, ...".
+    const std::size_t end = v.report.find(" errors, ");
+    std::size_t start = end;
+    while (start != std::string::npos && start > 0 &&
+           std::isdigit(static_cast<unsigned char>(v.report[start - 1])))
+        --start;
+    REQUIRE_MESSAGE((end != std::string::npos && start < end), v.report);
+    return std::stoi(v.report.substr(start, end - start));
 }
 
 std::vector<std::vector<BlenderObject>> blender_read(
