@@ -320,3 +320,38 @@ TEST_CASE("glTF writer: sparse positions are written densely; other meshes get a
     CHECK(s.code() == Errc::unsupported);
     CHECK_FALSE(std::filesystem::exists(dir / "fresh2.glb"));
 }
+
+TEST_CASE("glTF writer: an edit in world space goes back through the node's transform") {
+    const auto dir = test::scratch_dir("gltf_node_transform");
+    const Mesh grid = test::make_grid(2, 2);
+    test::GltfBuilder b;
+    b.positions(test::float_positions(grid));
+    std::vector<std::uint8_t> tris;
+    for (const auto& t : grid.triangles) tris.insert(tris.end(), t.begin(), t.end());
+    b.indices_u8(tris);
+    b.members = R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)"
+                R"("scenes":[{"nodes":[0]}],"nodes":[{"translation":[5,0,0],"scale":[2,2,2],)"
+                R"("children":[1]},{"rotation":[0,0.6,0,0.8],"mesh":0}])";
+    test::write_text(dir / "in.glb", b.glb());
+    Loaded in = load(dir / "in.glb");
+    Mesh edited = in.surface;
+    edited.positions[4] += glm::dvec3(0.0, 1.0, 0.0);  // world up by 1: local up by 1/2
+    REQUIRE(mesh::save_host_mesh(dir / "out.glb", edited, in.host));
+    const Written a = reread(dir / "in.glb");
+    const Written w = reread(dir / "out.glb");
+    for (std::size_t v = 0; v < grid.vertex_count(); ++v) {
+        CAPTURE(v);
+        const glm::dvec3 local = w.asset.local_positions[v];
+        if (v == 4) {
+            // The rotation is about y, so only the scale acts on the move.
+            CHECK(local.x == doctest::Approx(1.0));
+            CHECK(local.y == doctest::Approx(1.5));
+            CHECK(local.z == doctest::Approx(0.0));
+        } else {
+            CHECK(local == a.asset.local_positions[v]);  // untouched, bit for bit
+        }
+        CHECK(w.host.positions[v].x == doctest::Approx(edited.positions[v].x));
+        CHECK(w.host.positions[v].y == doctest::Approx(edited.positions[v].y));
+        CHECK(w.host.positions[v].z == doctest::Approx(edited.positions[v].z));
+    }
+}
