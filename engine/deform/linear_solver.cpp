@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/memory_bytes.hpp"
 #include "solver/parallel_kernels.hpp"
 #include "solver/pbcg.hpp"
 #include "solver/preconditioner.hpp"
@@ -107,7 +108,8 @@ LinearSolver::Memory LinearSolver::memory() const {
     if (!state_) return {};
     return {.preconditioner = state_->preconditioner->memory_bytes(),
             .matrix = state_->matrix.memory_bytes(),
-            .workspace = state_->workspace.memory_bytes()};
+            .workspace = state_->workspace.memory_bytes() +
+                         capacity_bytes(state_->residual, state_->partial)};
 }
 
 Status LinearSolver::solve(std::span<const double> rhs, std::span<double> x, double tolerance,

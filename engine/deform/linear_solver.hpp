@@ -68,7 +68,7 @@ public:
     struct Memory {
         std::size_t preconditioner = 0;  // the factor (L values, indices, analysis)
         std::size_t matrix = 0;          // N
-        std::size_t workspace = 0;       // the Krylov iteration's vectors
+        std::size_t workspace = 0;       // the Krylov iteration's vectors and the residual check's
     };
     Memory memory() const;
 
