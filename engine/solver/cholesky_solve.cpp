@@ -56,7 +56,8 @@ void backward_supernode(const CholeskySymbolic& sym, std::span<const double> val
 }  // namespace
 
 std::size_t SparseCholesky::solve_work_size(std::size_t k, std::size_t threads) const {
-    return (symbolic_.n + std::max<std::size_t>(threads, 1) * symbolic_.max_rows) * k;
+    return symbolic_.n * k +
+           std::max<std::size_t>(threads, 1) * supernode::scratch_size(symbolic_.max_rows, k);
 }
 
 void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::size_t k,
@@ -77,7 +78,7 @@ void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::
         // the supernodes above pull theirs. Back in the opposite order: the
         // top first, then the subtrees.
         pool->run(threads, [&](std::size_t t) {
-            double* mine = below + t * sym.max_rows * k;
+            double* mine = below + t * supernode::scratch_size(sym.max_rows, k);
             for (const std::uint32_t root : schedule_.subtrees[t])
                 for (std::uint32_t s = sym.subtree_begin[root]; s <= root; ++s)
                     forward_supernode(sym, values_, s, y, k, mine, sym.column_begin[root + 1]);
@@ -89,7 +90,7 @@ void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::
         for (std::size_t p = schedule_.top.size(); p-- > 0;)
             backward_supernode(sym, values_, schedule_.top[p], y, k, below);
         pool->run(threads, [&](std::size_t t) {
-            double* mine = below + t * sym.max_rows * k;
+            double* mine = below + t * supernode::scratch_size(sym.max_rows, k);
             for (const std::uint32_t root : schedule_.subtrees[t])
                 for (std::uint32_t s = root + 1; s-- > sym.subtree_begin[root];)
                     backward_supernode(sym, values_, s, y, k, mine);

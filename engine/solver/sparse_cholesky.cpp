@@ -258,8 +258,12 @@ void arrange_for_solves(const CholeskySymbolic& sym, std::vector<double>& values
         const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
         double* l = &values[sym.value_begin[s]];
         block.assign(l, l + m * w);
+        // The upper triangle of the diagonal block holds L's transpose: row j
+        // of L, left of the diagonal, is then column j above it, contiguous
+        // for the backward solve.
         for (std::size_t j = 0; j < w; ++j)
-            for (std::size_t i = 0; i < w; ++i) l[j * w + i] = block[j * m + i];
+            for (std::size_t i = 0; i < w; ++i)
+                l[j * w + i] = i >= j ? block[j * m + i] : block[i * m + j];
         double* below = l + w * w;
         for (std::size_t t = 0; t < m - w; ++t)
             for (std::size_t j = 0; j < w; ++j) below[t * w + j] = block[j * m + w + t];

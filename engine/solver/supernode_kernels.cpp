@@ -98,51 +98,43 @@ template <std::size_t K>
     }
 }
 
-// s[c w + j] −= Σ_t L(w + t, j) y[rows[t] k + c], that sum in four partial
-// sums over t (t mod 4) combined as (s0 + s1) + (s2 + s3): four columns at
-// a time in one register per vector and partial sum, each row of L read in
-// order.
+// s[c w + j] −= Σ_t L(w + t, j) y[rows[t] k + c], that sum in two partial
+// sums over t (even t, odd t, each in ascending order) added together. The
+// rows are taken one after the other, each whole, into two arrays of sums
+// after s in the scratch: L streams in order. (Taken a few columns at a
+// time over all rows, it was read with a stride of w doubles, which the
+// processor does not prefetch over so few rows: 1.5–2× slower.)
 template <std::size_t K>
 [[gnu::always_inline]] inline void pull_rows(std::size_t h, std::size_t w, std::size_t k,
                                              const double* below, const std::uint32_t* rows,
                                              const double* y, double* s) {
     const std::size_t kk = K != 0 ? K : k;
-    constexpr std::size_t columns = 4;
-    std::size_t j0 = 0;
-    if constexpr (K != 0) {
-        for (; j0 + columns <= w; j0 += columns) {
-            Lanes sum[4][K];
-            for (auto& part : sum)
-                for (Lanes& v : part) v = Lanes{0.0, 0.0, 0.0, 0.0};
-            const auto add_row = [&](Lanes(&part)[K], std::size_t t) {
+    double* acc[2] = {s + kk * w, s + 2 * kk * w};
+    for (std::size_t i = 0; i < 2 * kk * w; ++i) acc[0][i] = 0.0;
+    const std::size_t w4 = w - w % 4;
+    for (std::size_t t = 0; t < h; ++t) {
+        const double* row = below + t * w;
+        const double* yt = y + static_cast<std::size_t>(rows[t]) * kk;
+        double* a = acc[t % 2];
+        if constexpr (K != 0) {
+            for (std::size_t j = 0; j < w4; j += 4) {
                 Lanes lv;
-                load(lv, below + t * w + j0);
-                const double* yt = y + static_cast<std::size_t>(rows[t]) * K;
-                for (std::size_t c = 0; c < K; ++c) part[c] += lv * yt[c];
-            };
-            const std::size_t h4 = h - h % 4;
-            for (std::size_t t = 0; t < h4; t += 4) {
-                add_row(sum[0], t);
-                add_row(sum[1], t + 1);
-                add_row(sum[2], t + 2);
-                add_row(sum[3], t + 3);
+                load(lv, row + j);
+                for (std::size_t c = 0; c < K; ++c) {
+                    Lanes av;
+                    load(av, a + c * w + j);
+                    av += lv * yt[c];
+                    std::memcpy(a + c * w + j, &av, sizeof av);
+                }
             }
-            for (std::size_t t = h4; t < h; ++t) add_row(sum[t - h4], t);
-            for (std::size_t c = 0; c < K; ++c) {
-                const Lanes total = (sum[0][c] + sum[1][c]) + (sum[2][c] + sum[3][c]);
-                for (std::size_t lane = 0; lane < columns; ++lane)
-                    s[c * w + j0 + lane] -= total[lane];
-            }
+            for (std::size_t j = w4; j < w; ++j)
+                for (std::size_t c = 0; c < K; ++c) a[c * w + j] += row[j] * yt[c];
+        } else {
+            for (std::size_t c = 0; c < kk; ++c)
+                for (std::size_t j = 0; j < w; ++j) a[c * w + j] += row[j] * yt[c];
         }
     }
-    for (; j0 < w; ++j0) {
-        for (std::size_t c = 0; c < kk; ++c) {
-            double sum[4] = {0.0, 0.0, 0.0, 0.0};
-            for (std::size_t t = 0; t < h; ++t)
-                sum[t % 4] += below[t * w + j0] * y[static_cast<std::size_t>(rows[t]) * kk + c];
-            s[c * w + j0] -= (sum[0] + sum[1]) + (sum[2] + sum[3]);
-        }
-    }
+    for (std::size_t i = 0; i < kk * w; ++i) s[i] -= acc[0][i] + acc[1][i];
 }
 
 template <std::size_t K>
@@ -156,10 +148,17 @@ template <std::size_t K>
     split_columns<K>(w, kk, own, s);
     for (std::size_t j = 0; j < w; ++j) {
         const double* lj = l + j * w;
-        for (std::size_t c = 0; c < kk; ++c) {
-            double* sc = s + c * w;
-            const double f = sc[j] /= lj[j];
-            for (std::size_t i = j + 1; i < w; ++i) sc[i] -= lj[i] * f;
+        double f[K != 0 ? K : 1];
+        if constexpr (K != 0) {
+            for (std::size_t c = 0; c < K; ++c) f[c] = s[c * w + j] /= lj[j];
+            for (std::size_t i = j + 1; i < w; ++i)
+                for (std::size_t c = 0; c < K; ++c) s[c * w + i] -= lj[i] * f[c];
+        } else {
+            for (std::size_t c = 0; c < kk; ++c) {
+                double* sc = s + c * w;
+                f[0] = sc[j] /= lj[j];
+                for (std::size_t i = j + 1; i < w; ++i) sc[i] -= lj[i] * f[0];
+            }
         }
     }
     join_columns<K>(w, kk, s, own);
@@ -175,24 +174,21 @@ template <std::size_t K>
     double* s = scratch;
     split_columns<K>(w, kk, own, s);
     if (h > 0) pull_rows<K>(h, w, kk, l + w * w, rows, y, s);
-    // The K chains of subtractions side by side, so that their latencies
-    // overlap.
-    for (std::size_t j = w; j-- > 0;) {
-        const double* lj = l + j * w;
+    // Column i of the diagonal block above the diagonal is row i of L left
+    // of it (SparseCholesky's layout): once y_i is known, the entries before
+    // it subtract their terms, all K vectors in one pass over that column.
+    for (std::size_t i = w; i-- > 0;) {
+        const double* li = l + i * w;
         if constexpr (K != 0) {
-            double v[K];
-            for (std::size_t c = 0; c < K; ++c) v[c] = s[c * w + j];
-            for (std::size_t i = j + 1; i < w; ++i) {
-                const double f = lj[i];
-                for (std::size_t c = 0; c < K; ++c) v[c] -= f * s[c * w + i];
-            }
-            for (std::size_t c = 0; c < K; ++c) s[c * w + j] = v[c] / lj[j];
+            double x[K];
+            for (std::size_t c = 0; c < K; ++c) x[c] = s[c * w + i] /= li[i];
+            for (std::size_t j = 0; j < i; ++j)
+                for (std::size_t c = 0; c < K; ++c) s[c * w + j] -= li[j] * x[c];
         } else {
             for (std::size_t c = 0; c < kk; ++c) {
                 double* sc = s + c * w;
-                double v = sc[j];
-                for (std::size_t i = j + 1; i < w; ++i) v -= lj[i] * sc[i];
-                sc[j] = v / lj[j];
+                const double x = sc[i] /= li[i];
+                for (std::size_t j = 0; j < i; ++j) sc[j] -= li[j] * x;
             }
         }
     }

@@ -5,10 +5,10 @@
 
 // The triangular solves' work on one supernode, for k interleaved vectors
 // (y[i k + c] is entry i of vector c). The supernode's m×w block L is laid
-// out for the solves (SparseCholesky): its w×w lower-triangular diagonal
-// block column-major (leading dimension w), then the h = m − w rows below,
-// which are the factor's rows `rows`, row by row (w entries each), so that
-// both solves stream L in order. Its own w entries of y start at `own`; `y`
+// out for the solves (SparseCholesky): its w×w diagonal block column-major
+// (leading dimension w), L below the diagonal and Lᵀ above it, then the
+// h = m − w rows below, which are the factor's rows `rows`, row by row (w
+// entries each), so that both solves stream L in order. Its own w entries of y start at `own`; `y`
 // is the whole vector.
 //
 // Each kernel moves the supernode's own entries into `scratch` (one
@@ -19,9 +19,10 @@
 // supernodes are shared between threads.
 namespace dfm::solver::supernode {
 
-// Doubles of scratch the kernels need for a supernode of m rows.
+// Doubles of scratch the kernels need for a supernode of m rows: the own
+// entries by vector, and the backward sums' two partial sums.
 constexpr std::size_t scratch_size(std::size_t m, std::size_t k) {
-    return m * k;
+    return 3 * m * k;
 }
 
 // Forward, L y = y: for each column j ascending, y_j /= L(j, j), then every
@@ -33,10 +34,10 @@ void forward(std::size_t m, std::size_t w, std::size_t push, std::size_t k, cons
              const std::uint32_t* rows, double* own, double* y, double* scratch);
 
 // Backward, Lᵀ y = y: each own entry j first subtracts Σ_t L(w + t, j)
-// y_rows[t] over the rows below, that sum accumulated in four partial sums
-// over t (t mod 4) combined as (s0 + s1) + (s2 + s3); then, for j
-// descending, it subtracts the terms L(i, j) y_i of the diagonal block one
-// by one, i ascending, and is divided by L(j, j).
+// y_rows[t] over the rows below, that sum accumulated row by row (so that L
+// streams in order) in two partial sums, over even and over odd t, added
+// together; then, for i descending, y_i is divided by L(i, i) and every
+// earlier own entry j subtracts L(i, j) y_i.
 void backward(std::size_t m, std::size_t w, std::size_t k, const double* l,
               const std::uint32_t* rows, double* own, const double* y, double* scratch);
 
