@@ -6,7 +6,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtx/quaternion.hpp>
 
-#include "deform/rotation_fit.hpp"
+#include "deform/rotation_fit_lanes.hpp"
 
 // The pass over the rows is also compiled for AVX2 and picked at run time
 // where the processor has it, as the solver's dense kernels are: the same
@@ -186,74 +186,132 @@ using SlotLanes = std::array<Lanes, lanes>;
     return v[0] + v[1];
 }
 
-[[gnu::always_inline]] inline double fit_rows_body(const FitPass& pass) {
-    double energy = 0.0;
-    for (std::size_t r = 0; r < pass.stencils.size(); ++r) {
-        const RigidityStencil& s = pass.stencils[r];
-        const double scale = pass.height_scale.empty() ? 1.0 : pass.height_scale[r];
-        // By coordinate, as arrays: glm's vec3[i] is a switch.
-        const std::array<double, 3> rest_dual{scale * s.rest_dual.x, scale * s.rest_dual.y,
-                                              scale * s.rest_dual.z};
-        std::array<SlotLanes, 3> p;  // by coordinate
-        std::array<glm::dvec3, slots> at;
+// What a dual row's fit needs before and after the rotation: |A_k p|²
+// summed over its rows, its target scale and G_i by coordinate.
+struct PreparedRow {
+    double rows2;
+    double scale;
+    std::array<SlotLanes, 3> g;
+};
+
+// Gathers dual row r's positions, fills lane `lane` of the covariance and
+// returns what the fit's result is applied with.
+[[gnu::always_inline]] inline void prepare_row(const FitPass& pass, std::size_t r, std::size_t lane,
+                                               fit_lanes::Mat3& covariance, PreparedRow& out) {
+    const RigidityStencil& s = pass.stencils[r];
+    const double scale = pass.height_scale.empty() ? 1.0 : pass.height_scale[r];
+    out.scale = scale;
+    // By coordinate, as arrays: glm's vec3[i] is a switch.
+    const std::array<double, 3> rest_dual{scale * s.rest_dual.x, scale * s.rest_dual.y,
+                                          scale * s.rest_dual.z};
+    std::array<SlotLanes, 3> p;  // by coordinate
+    std::array<glm::dvec3, slots> at;
+    for (std::size_t l = 0; l < lanes; ++l) {
+        const glm::dvec3& u = at[2 * l] = pass.positions[s.vertex[2 * l]];
+        const glm::dvec3& w = at[2 * l + 1] = pass.positions[s.vertex[2 * l + 1]];
+        p[0][l] = Lanes{u.x, w.x};
+        p[1][l] = Lanes{u.y, w.y};
+        p[2][l] = Lanes{u.z, w.z};
+    }
+    // |A_k p|² does not depend on the fit: taken before it.
+    double rows2 = 0.0;
+    std::array<SlotLanes, 3>& g = out.g;
+    std::array<SlotLanes, 3> e;
+    for (std::size_t x = 0; x < 3; ++x) {
+        Lanes product = lanes_at(&s.dual[0]) * p[x][0];
+        for (std::size_t l = 1; l < lanes; ++l) product += lanes_at(&s.dual[2 * l]) * p[x][l];
+        const double dual = lane_sum(product);
+        rows2 += dual * dual;
+        const double origin = p[x][0][0];
         for (std::size_t l = 0; l < lanes; ++l) {
-            const glm::dvec3& u = at[2 * l] = pass.positions[s.vertex[2 * l]];
-            const glm::dvec3& w = at[2 * l + 1] = pass.positions[s.vertex[2 * l + 1]];
-            p[0][l] = Lanes{u.x, w.x};
-            p[1][l] = Lanes{u.y, w.y};
-            p[2][l] = Lanes{u.z, w.z};
+            g[x][l] = lanes_at(&s.pulled[x][2 * l]) + lanes_at(&s.dual[2 * l]) * rest_dual[x];
+            // Σ_i G_i = 0 (every row's coefficients sum to zero):
+            // positions relative to the first slot give the same
+            // covariance, with less cancellation.
+            e[x][l] = p[x][l] - origin;
         }
-        // |A_k p|² does not depend on the fit: taken before it.
-        double rows2 = 0.0;
-        std::array<SlotLanes, 3> g;
-        std::array<SlotLanes, 3> e;
-        for (std::size_t x = 0; x < 3; ++x) {
-            Lanes product = lanes_at(&s.dual[0]) * p[x][0];
-            for (std::size_t l = 1; l < lanes; ++l) product += lanes_at(&s.dual[2 * l]) * p[x][l];
-            const double dual = lane_sum(product);
-            rows2 += dual * dual;
-            const double origin = p[x][0][0];
-            for (std::size_t l = 0; l < lanes; ++l) {
-                g[x][l] = lanes_at(&s.pulled[x][2 * l]) + lanes_at(&s.dual[2 * l]) * rest_dual[x];
-                // Σ_i G_i = 0 (every row's coefficients sum to zero):
-                // positions relative to the first slot give the same
-                // covariance, with less cancellation.
-                e[x][l] = p[x][l] - origin;
-            }
+    }
+    for (std::size_t k = 0; k < pairs; ++k) {
+        const glm::dvec3 edge = at[s.pair_slot[k][0]] - at[s.pair_slot[k][1]];
+        rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
+    }
+    out.rows2 = rows2;
+    for (int row = 0; row < 3; ++row) {
+        for (int column = 0; column < 3; ++column) {
+            Lanes sum = e[row][0] * g[column][0];
+            for (std::size_t l = 1; l < lanes; ++l) sum += e[row][l] * g[column][l];
+            covariance.m[column][row][lane] = lane_sum(sum);
         }
-        for (std::size_t k = 0; k < pairs; ++k) {
-            const glm::dvec3 edge = at[s.pair_slot[k][0]] - at[s.pair_slot[k][1]];
-            rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
+    }
+}
+
+// Adds dual row r's share R_f G_i to the right-hand side; returns its energy.
+[[gnu::always_inline]] inline double finish_row(const FitPass& pass, std::size_t r,
+                                                std::size_t lane, const fit_lanes::Mat3& rotation,
+                                                double alignment, const PreparedRow& in) {
+    const RigidityStencil& s = pass.stencils[r];
+    const std::array<SlotLanes, 3>& g = in.g;
+    std::array<SlotLanes, 3> pull;  // R_f G_i by coordinate
+    for (int x = 0; x < 3; ++x) {
+        const double r0 = rotation.m[0][x][lane];
+        const double r1 = rotation.m[1][x][lane];
+        const double r2 = rotation.m[2][x][lane];
+        for (std::size_t l = 0; l < lanes; ++l)
+            pull[x][l] = r0 * g[0][l] + r1 * g[1][l] + r2 * g[2][l];
+    }
+    for (std::size_t i = 0; i < slots; ++i) {
+        if (s.unknown[i] == mesh::no_index) continue;
+        double* out = &pass.rhs[3 * s.unknown[i]];
+        out[0] += pull[0][i / 2][i % 2];
+        out[1] += pull[1][i / 2][i % 2];
+        out[2] += pull[2][i / 2][i % 2];
+    }
+    return in.rows2 - 2.0 * alignment + in.scale * in.scale * s.rest_dual2 + s.pair_target2;
+}
+
+// Four dual rows at a time, their rotations fitted side by side in the
+// lanes of one vector (rotation_fit_lanes.hpp); the right-hand side and
+// the energy still take the rows one by one, in order.
+[[gnu::always_inline]] inline double fit_rows_body(const FitPass& pass) {
+    constexpr std::size_t width = fit_lanes::width;
+    double energy = 0.0;
+    const std::size_t count = pass.stencils.size();
+    for (std::size_t first = 0; first < count; first += width) {
+        const std::size_t used = std::min(width, count - first);
+        // The stencils stream in order, the positions they name do not:
+        // the rows two groups ahead are fetched, and the positions of
+        // those one group ahead.
+        const char* ahead = reinterpret_cast<const char*>(pass.stencils.data() + first + 2 * width);
+        if (first + 3 * width <= count) {
+            for (std::size_t byte = 0; byte < width * sizeof(RigidityStencil); byte += 64)
+                __builtin_prefetch(ahead + byte);
         }
-        glm::dmat3 covariance;
-        for (int row = 0; row < 3; ++row) {
-            for (int column = 0; column < 3; ++column) {
-                Lanes sum = e[row][0] * g[column][0];
-                for (std::size_t l = 1; l < lanes; ++l) sum += e[row][l] * g[column][l];
-                covariance[column][row] = lane_sum(sum);
-            }
+        if (first + 2 * width <= count) {
+            for (std::size_t r = first + width; r < first + 2 * width; ++r)
+                for (const std::uint32_t v : pass.stencils[r].vertex)
+                    __builtin_prefetch(&pass.positions[v]);
         }
-        glm::dquat q = pass.kept[r];
-        // The one step of every iterate after a solve's first, as
-        // straight-line code.
-        const RotationFit fit = pass.steps == 1 ? fit_rotation(covariance, q, 1)
-                                                : fit_rotation(covariance, q, pass.steps);
-        pass.fitted[r] = q;
-        energy += rows2 - 2.0 * fit.alignment + scale * scale * s.rest_dual2 + s.pair_target2;
-        const glm::dmat3& rotation = fit.rotation;
-        std::array<SlotLanes, 3> pull;  // R_f G_i by coordinate
-        for (int x = 0; x < 3; ++x) {
-            for (std::size_t l = 0; l < lanes; ++l) {
-                pull[x][l] =
-                    rotation[0][x] * g[0][l] + rotation[1][x] * g[1][l] + rotation[2][x] * g[2][l];
-            }
+        fit_lanes::Mat3 covariance;
+        fit_lanes::Quat q;
+        std::array<PreparedRow, width> prepared;
+        for (std::size_t lane = 0; lane < width; ++lane) {
+            // Past the last row, a lane repeats the first: its result is
+            // dropped, and it stops when that row's fit does.
+            const std::size_t r = first + (lane < used ? lane : 0);
+            prepare_row(pass, r, lane, covariance, prepared[lane]);
+            const glm::dquat& kept = pass.kept[r];
+            q.w[lane] = kept.w;
+            q.x[lane] = kept.x;
+            q.y[lane] = kept.y;
+            q.z[lane] = kept.z;
         }
-        for (std::size_t i = 0; i < slots; ++i) {
-            if (s.unknown[i] == mesh::no_index) continue;
-            double* out = &pass.rhs[3 * s.unknown[i]];
-            out[0] += pull[0][i / 2][i % 2];
-            out[1] += pull[1][i / 2][i % 2];
-            out[2] += pull[2][i / 2][i % 2];
+        fit_lanes::Mat3 rotation;
+        fit_lanes::Quad alignment;
+        fit_rotations(covariance, q, pass.steps, rotation, alignment);
+        for (std::size_t lane = 0; lane < used; ++lane) {
+            const std::size_t r = first + lane;
+            pass.fitted[r] = glm::dquat(q.w[lane], q.x[lane], q.y[lane], q.z[lane]);
+            energy += finish_row(pass, r, lane, rotation, alignment[lane], prepared[lane]);
         }
     }
     return energy;
