@@ -281,8 +281,8 @@ struct PreparedRow {
         // The stencils stream in order, the positions they name do not:
         // the rows two groups ahead are fetched, and the positions of
         // those one group ahead.
-        const char* ahead = reinterpret_cast<const char*>(pass.stencils.data() + first + 2 * width);
         if (first + 3 * width <= count) {
+            const auto* ahead = reinterpret_cast<const char*>(&pass.stencils[first + 2 * width]);
             for (std::size_t byte = 0; byte < width * sizeof(RigidityStencil); byte += 64)
                 __builtin_prefetch(ahead + byte);
         }

@@ -53,8 +53,9 @@ inline bool solve_positive_definite(double k00, double k01, double k02, double k
 // concave; never a reflection, no SVD, no trigonometry. `q` is the warm start
 // on entry and the fit on exit, after at most `steps` steps; the fit is
 // never worse than the start.
-// Inline, so that callers compiled for a wider instruction set
-// (rigidity_rows.cpp) get it in that set too.
+// The local step runs four of these at once (rotation_fit_lanes.hpp, the
+// same bits lane by lane); this one fits the handles' rigid alignment and is
+// that version's reference.
 [[gnu::always_inline]] inline RotationFit fit_rotation(const glm::dmat3& a, glm::dquat& q,
                                                        int max_steps) {
     using rotation_fit_detail::alignment;

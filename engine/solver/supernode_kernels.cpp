@@ -148,16 +148,16 @@ template <std::size_t K>
     split_columns<K>(w, kk, own, s);
     for (std::size_t j = 0; j < w; ++j) {
         const double* lj = l + j * w;
-        double f[K != 0 ? K : 1];
         if constexpr (K != 0) {
+            double f[K];
             for (std::size_t c = 0; c < K; ++c) f[c] = s[c * w + j] /= lj[j];
             for (std::size_t i = j + 1; i < w; ++i)
                 for (std::size_t c = 0; c < K; ++c) s[c * w + i] -= lj[i] * f[c];
         } else {
             for (std::size_t c = 0; c < kk; ++c) {
                 double* sc = s + c * w;
-                f[0] = sc[j] /= lj[j];
-                for (std::size_t i = j + 1; i < w; ++i) sc[i] -= lj[i] * f[0];
+                const double f = sc[j] /= lj[j];
+                for (std::size_t i = j + 1; i < w; ++i) sc[i] -= lj[i] * f;
             }
         }
     }

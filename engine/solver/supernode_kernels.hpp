@@ -8,8 +8,8 @@
 // out for the solves (SparseCholesky): its w×w diagonal block column-major
 // (leading dimension w), L below the diagonal and Lᵀ above it, then the
 // h = m − w rows below, which are the factor's rows `rows`, row by row (w
-// entries each), so that both solves stream L in order. Its own w entries of y start at `own`; `y`
-// is the whole vector.
+// entries each), so that both solves stream L in order. Its own w entries
+// of y start at `own`; `y` is the whole vector.
 //
 // Each kernel moves the supernode's own entries into `scratch` (one
 // contiguous column per vector) so that the diagonal block's work runs on
