@@ -204,11 +204,13 @@ struct PreparedRow {
     // By coordinate, as arrays: glm's vec3[i] is a switch.
     const std::array<double, 3> rest_dual{scale * s.rest_dual.x, scale * s.rest_dual.y,
                                           scale * s.rest_dual.z};
+    // The lanes are loaded from the positions themselves: a copy of them
+    // on the stack, read back in other pairs, stalls each load on the
+    // stores it spans.
     std::array<SlotLanes, 3> p;  // by coordinate
-    std::array<glm::dvec3, slots> at;
     for (std::size_t l = 0; l < lanes; ++l) {
-        const glm::dvec3& u = at[2 * l] = pass.positions[s.vertex[2 * l]];
-        const glm::dvec3& w = at[2 * l + 1] = pass.positions[s.vertex[2 * l + 1]];
+        const glm::dvec3& u = pass.positions[s.vertex[2 * l]];
+        const glm::dvec3& w = pass.positions[s.vertex[2 * l + 1]];
         p[0][l] = Lanes{u.x, w.x};
         p[1][l] = Lanes{u.y, w.y};
         p[2][l] = Lanes{u.z, w.z};
@@ -232,7 +234,8 @@ struct PreparedRow {
         }
     }
     for (std::size_t k = 0; k < pairs; ++k) {
-        const glm::dvec3 edge = at[s.pair_slot[k][0]] - at[s.pair_slot[k][1]];
+        const glm::dvec3 edge = pass.positions[s.vertex[s.pair_slot[k][0]]] -
+                                pass.positions[s.vertex[s.pair_slot[k][1]]];
         rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
     }
     out.rows2 = rows2;
