@@ -118,8 +118,13 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         if (stopped()) return cancelled;
         phase = std::chrono::steady_clock::now();
         solver::CsrMatrix normal =
-            assemble_normal_matrix(s->rows_, u.count(), s->soft_handles_, settings.handle_weight,
-                                   settings.regularization, s->epsilon_, stop);
+            settings.method == DeformMethod::fitted_rotations
+                ? s->frames_.assemble_normal_matrix(u.count(), s->soft_handles_,
+                                                    settings.handle_weight,
+                                                    settings.regularization, s->epsilon_, stop)
+                : assemble_normal_matrix(s->rows_, u.count(), s->soft_handles_,
+                                         settings.handle_weight, settings.regularization,
+                                         s->epsilon_, stop);
         s->setup_.assembly_ms = ms_since(phase);
         const std::size_t normal_nonzeros = normal.nonzeros();
         if (stopped()) return cancelled;
@@ -153,7 +158,7 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         }
         s->predictor_.record(s->current_, s->targets_);
         s->setup_.unknowns = u.count();
-        s->setup_.rows = s->rows_.size();
+        s->setup_.rows = s->rows_.size() + s->frames_.rigidity_rows();
         s->setup_.normal_nonzeros = normal_nonzeros;
         s->setup_.setup_ms = ms_since(start);
         out = std::move(s);

@@ -7,6 +7,10 @@ namespace dfm::deform {
 
 namespace {
 
+// Uses ahead whose row entries the assembly prefetches: enough to cover a
+// miss to memory at a few nanoseconds a use.
+constexpr std::size_t prefetch_distance = 8;
+
 // The faces whose dual rows can touch an unknown: a row reads its face's
 // vertices and its neighbours'. The others' rows are never computed, so
 // that a small ROI's set-up does not cost a pass of dual_row over the
@@ -56,87 +60,106 @@ SystemRows collect_rows(const MeshModel& model, const UnknownMap& unknowns) {
     return rows;
 }
 
+std::vector<double> normal_diagonal_start(std::vector<double> squares,
+                                          std::span<const std::uint32_t> soft_handles,
+                                          double handle_weight, double relative_epsilon,
+                                          double& epsilon) {
+    const std::size_t count = squares.size();
+    for (std::uint32_t u : soft_handles) squares[u] += handle_weight * handle_weight;
+    const double mean = count == 0 ? 0.0
+                                   : std::accumulate(squares.begin(), squares.end(), 0.0) /
+                                         static_cast<double>(count);
+    epsilon = relative_epsilon * mean;
+    std::vector<double> start(count, 0.0);
+    for (std::uint32_t u : soft_handles) start[u] += handle_weight * handle_weight;
+    for (double& d : start) d += epsilon;
+    return start;
+}
+
+NormalRows::NormalRows(std::size_t unknowns) : slot_(unknowns, mesh::no_index) {
+    n_.rows = n_.cols = unknowns;
+    n_.row_offsets.assign(unknowns + 1, 0);
+}
+
+void NormalRows::finish_row() {
+    for (std::uint32_t j : columns_) slot_[j] = mesh::no_index;
+    // A row holds a few dozen columns at most: insertion sort, in place.
+    const std::size_t count = columns_.size();
+    for (std::size_t k = 1; k < count; ++k) {
+        const std::uint32_t column = columns_[k];
+        const double value = values_[k];
+        std::size_t at = k;
+        for (; at > 0 && columns_[at - 1] > column; --at) {
+            columns_[at] = columns_[at - 1];
+            values_[at] = values_[at - 1];
+        }
+        columns_[at] = column;
+        values_[at] = value;
+    }
+    n_.col_indices.insert(n_.col_indices.end(), columns_.begin(), columns_.end());
+    n_.values.insert(n_.values.end(), values_.begin(), values_.end());
+    columns_.clear();
+    values_.clear();
+    n_.row_offsets[++row_] = n_.col_indices.size();
+}
+
 solver::CsrMatrix assemble_normal_matrix(const SystemRows& rows, std::size_t unknown_count,
                                          std::span<const std::uint32_t> soft_handles,
                                          double handle_weight, double relative_epsilon,
                                          double& epsilon, const std::atomic<bool>* stop) {
-    // Rows touching each unknown, CSR.
+    // Rows touching each unknown, CSR: for each, where the row's entries
+    // start and end and the unknown's coefficient in it, so that the pass
+    // below reads this list in order and the rows' entries are its only
+    // scattered reads.
+    struct RowUse {
+        std::uint32_t begin;
+        std::uint32_t end;
+        double coefficient;
+    };
     std::vector<std::uint32_t> offsets(unknown_count + 1, 0);
     for (const RowEntry& e : rows.entries) {
         if (e.unknown != mesh::no_index) ++offsets[e.unknown + 1];
     }
     std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
-    std::vector<std::uint32_t> entry_of(offsets.back());
-    std::vector<std::uint32_t> row_of_entry(rows.entries.size());
-    std::vector<double> diagonal(unknown_count, 0.0);
+    std::vector<RowUse> uses(offsets.back());
+    std::vector<double> squares(unknown_count, 0.0);
     {
         std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
         for (std::uint32_t r = 0; r < rows.size(); ++r) {
-            for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
-                row_of_entry[p] = r;
+            const std::uint32_t begin = rows.entry_offsets[r];
+            const std::uint32_t end = rows.entry_offsets[r + 1];
+            for (std::uint32_t p = begin; p < end; ++p) {
                 const RowEntry& e = rows.entries[p];
                 if (e.unknown == mesh::no_index) continue;
-                entry_of[fill[e.unknown]++] = p;
-                diagonal[e.unknown] += e.coefficient * e.coefficient;
+                uses[fill[e.unknown]++] = {begin, end, e.coefficient};
+                squares[e.unknown] += e.coefficient * e.coefficient;
             }
         }
     }
-    for (std::uint32_t u : soft_handles) diagonal[u] += handle_weight * handle_weight;
-    const double mean = unknown_count == 0
-                            ? 0.0
-                            : std::accumulate(diagonal.begin(), diagonal.end(), 0.0) /
-                                  static_cast<double>(unknown_count);
-    epsilon = relative_epsilon * mean;
-    std::vector<double> handle_term(unknown_count, 0.0);
-    for (std::uint32_t u : soft_handles) handle_term[u] += handle_weight * handle_weight;
+    const std::vector<double> diagonal = normal_diagonal_start(
+        std::move(squares), soft_handles, handle_weight, relative_epsilon, epsilon);
 
-    // Row i of N gathers, over every dual row that holds unknown i, the
-    // products with that row's other unknowns: a sparse accumulator with a
-    // marker per column keeps it linear in the output.
-    solver::CsrMatrix n;
-    n.rows = n.cols = unknown_count;
-    n.row_offsets.assign(unknown_count + 1, 0);
-    std::vector<std::uint32_t> slot(unknown_count, mesh::no_index);
-    std::vector<std::uint32_t> cols;
-    std::vector<double> vals;
-    std::vector<std::uint32_t> order;
+    // Row i of N gathers, over every row of A that holds unknown i, the
+    // products with that row's other unknowns.
+    NormalRows n(unknown_count);
     for (std::uint32_t i = 0; i < unknown_count; ++i) {
         // A few hundred rows take well under a millisecond.
         if (stop != nullptr && i % 256 == 0 && stop->load(std::memory_order_relaxed))
             return solver::CsrMatrix{};
-        cols.clear();
-        vals.clear();
-        auto add = [&](std::uint32_t j, double v) {
-            if (slot[j] == mesh::no_index) {
-                slot[j] = static_cast<std::uint32_t>(cols.size());
-                cols.push_back(j);
-                vals.push_back(v);
-            } else {
-                vals[slot[j]] += v;
-            }
-        };
-        add(i, handle_term[i] + epsilon);
+        n.add(i, diagonal[i]);
         for (std::uint32_t q = offsets[i]; q < offsets[i + 1]; ++q) {
-            const std::uint32_t p = entry_of[q];
-            const double ai = rows.entries[p].coefficient;
-            const std::uint32_t r = row_of_entry[p];
-            for (std::uint32_t s = rows.entry_offsets[r]; s < rows.entry_offsets[r + 1]; ++s) {
+            // The rows a few uses ahead are fetched while this one is summed.
+            if (q + prefetch_distance < uses.size())
+                __builtin_prefetch(&rows.entries[uses[q + prefetch_distance].begin]);
+            const RowUse& use = uses[q];
+            for (std::uint32_t s = use.begin; s < use.end; ++s) {
                 const RowEntry& e = rows.entries[s];
-                if (e.unknown != mesh::no_index) add(e.unknown, ai * e.coefficient);
+                if (e.unknown != mesh::no_index) n.add(e.unknown, use.coefficient * e.coefficient);
             }
         }
-        order.resize(cols.size());
-        std::iota(order.begin(), order.end(), 0u);
-        std::sort(order.begin(), order.end(),
-                  [&](std::uint32_t a, std::uint32_t b) { return cols[a] < cols[b]; });
-        for (std::uint32_t k : order) {
-            n.col_indices.push_back(cols[k]);
-            n.values.push_back(vals[k]);
-        }
-        for (std::uint32_t j : cols) slot[j] = mesh::no_index;
-        n.row_offsets[i + 1] = n.col_indices.size();
+        n.finish_row();
     }
-    return n;
+    return n.take();
 }
 
 }  // namespace dfm::deform

@@ -43,6 +43,43 @@ struct SystemRows {
 
 SystemRows collect_rows(const MeshModel& model, const UnknownMap& unknowns);
 
+// N's diagonal before AᵀA's terms: w² for each listing of an unknown in
+// `soft_handles`, plus ε, `relative_epsilon` times the mean diagonal of
+// AᵀA + w² H (`squares`: AᵀA's diagonal, summed in A's row order).
+// Returns that start per unknown and sets `epsilon`.
+std::vector<double> normal_diagonal_start(std::vector<double> squares,
+                                          std::span<const std::uint32_t> soft_handles,
+                                          double handle_weight, double relative_epsilon,
+                                          double& epsilon);
+
+// N built row after row: each row's terms gather in a sparse accumulator
+// (a marker per column keeps it linear in its terms, a term for a column
+// already there adds to it in the order given), and finish_row appends the
+// row sorted by column.
+class NormalRows {
+public:
+    explicit NormalRows(std::size_t unknowns);
+
+    void add(std::uint32_t column, double value) {
+        if (slot_[column] == mesh::no_index) {
+            slot_[column] = static_cast<std::uint32_t>(columns_.size());
+            columns_.push_back(column);
+            values_.push_back(value);
+        } else {
+            values_[slot_[column]] += value;
+        }
+    }
+    void finish_row();
+    solver::CsrMatrix take() { return std::move(n_); }
+
+private:
+    solver::CsrMatrix n_;
+    std::size_t row_ = 0;
+    std::vector<std::uint32_t> slot_;
+    std::vector<std::uint32_t> columns_;
+    std::vector<double> values_;
+};
+
 // Assembles N with sorted, duplicate-free rows. `soft_handles` are the
 // unknowns tied to targets with weight `handle_weight`. ε is
 // `relative_epsilon` times the mean diagonal of AᵀA + w² H, returned in

@@ -42,23 +42,11 @@ constexpr double relative_edge_weight = 0.2;
 }  // namespace
 
 void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, double weight,
-                           SystemRows& rows) {
+                           const SystemRows& rows) {
     const mesh::Mesh& mesh = model.mesh;
     const std::size_t dual_rows = rows.size();
-    std::vector<std::uint32_t> rigid_offsets(1, 0);
-    std::vector<glm::dvec3> rest_vectors;  // per rigidity row, w s (v_c − v_d)⁰
     std::vector<glm::dvec3> rest(mesh.face_count());
     dual::compute_centroids(mesh, mesh.positions, rest);
-    auto add = [&](std::uint32_t c, std::uint32_t d, double scale, std::uint32_t f) {
-        const std::uint32_t uc = unknowns.unknown_of_vertex[c];
-        const std::uint32_t ud = unknowns.unknown_of_vertex[d];
-        if (uc == mesh::no_index && ud == mesh::no_index) return;
-        rows.faces.push_back(f);
-        rows.entries.push_back({c, uc, weight * scale});
-        rows.entries.push_back({d, ud, -weight * scale});
-        rows.entry_offsets.push_back(static_cast<std::uint32_t>(rows.entries.size()));
-        rest_vectors.push_back(weight * scale * (mesh.positions[c] - mesh.positions[d]));
-    };
     // Edge rows are relative: a needle's short edge gets the weight of its
     // shortness. Lengths alone would let needles (the camel's head has edges
     // 70 times shorter than their neighbours) turn over at no cost.
@@ -67,29 +55,15 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
         mean_edge += glm::length(mesh.positions[e[0]] - mesh.positions[e[1]]);
     }
     mean_edge /= static_cast<double>(std::max<std::size_t>(model.topology.edges.size(), 1));
-    for (std::size_t r = 0; r < dual_rows; ++r) {
-        const std::uint32_t f = rows.faces[r];
-        const mesh::Triangle& t = mesh.triangles[f];
-        if (weight > 0.0) {
-            for (int k = 0; k < 3; ++k) {
-                const std::uint32_t j = model.dual.neighbors[f][k];
-                const std::uint32_t c = opposite_vertex(t, mesh.triangles[j]);
-                const std::uint32_t d = opposite_vertex(mesh.triangles[j], t);
-                if (c != mesh::no_index && d != mesh::no_index) add(c, d, 1.0 / 3.0, f);
-                const std::uint32_t a = t[k];
-                const std::uint32_t b = t[(k + 1) % 3];
-                const double length = glm::length(mesh.positions[a] - mesh.positions[b]);
-                if (length > 0.0) add(a, b, relative_edge_weight * mean_edge / length, f);
-            }
-        }
-        rigid_offsets.push_back(static_cast<std::uint32_t>(rest_vectors.size()));
-    }
 
     stencils_.assign(dual_rows, RigidityStencil{});
     fixed_.clear();
+    rigidity_rows_ = 0;
     for (std::size_t r = 0; r < dual_rows; ++r) {
         RigidityStencil& s = stencils_[r];
-        s.rest_dual = dual::dual_coordinate(model.dual, rest, rows.faces[r]);
+        const std::uint32_t f = rows.faces[r];
+        const mesh::Triangle& t = mesh.triangles[f];
+        s.rest_dual = dual::dual_coordinate(model.dual, rest, f);
         s.rest_dual2 = glm::dot(s.rest_dual, s.rest_dual);
         // The coefficients b_ki of every row of this dual row, by slot.
         std::array<std::array<double, slots>, pairs + 1> b{};
@@ -107,29 +81,45 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
             s.unknown[i] = mesh::no_index;
         }
         // A rigidity row joins two vertices of f's dual 1-ring, which are
-        // all in the dual row.
+        // all in the dual row: w s (v_c − v_d), for its rest vector.
         auto slot_of = [&](std::uint32_t v) {
             std::size_t i = 0;
             while (i + 1 < used && s.vertex[i] != v) ++i;
             return static_cast<std::uint8_t>(i);
         };
-        const std::uint32_t first = rigid_offsets[r];
-        for (std::uint32_t k = 0; k < rigid_offsets[r + 1] - first; ++k) {
-            const std::size_t row = dual_rows + first + k;
-            const RowEntry& c = rows.entries[rows.entry_offsets[row]];
-            const RowEntry& d = rows.entries[rows.entry_offsets[row] + 1];
-            const std::uint8_t sc = slot_of(c.vertex);
-            const std::uint8_t sd = slot_of(d.vertex);
+        auto add_pair = [&](std::uint32_t c, std::uint32_t d, double scale) {
+            if (unknowns.unknown_of_vertex[c] == mesh::no_index &&
+                unknowns.unknown_of_vertex[d] == mesh::no_index)
+                return;
+            const double cc = weight * scale;
+            const double dc = -weight * scale;
+            const glm::dvec3 rest_vector = weight * scale * (mesh.positions[c] - mesh.positions[d]);
+            const std::size_t k = s.pair_count++;
+            const std::uint8_t sc = slot_of(c);
+            const std::uint8_t sd = slot_of(d);
             s.pair_slot[k] = {sc, sd};
-            s.pair_weight2[k] = c.coefficient * c.coefficient;
-            s.pair_target2 += glm::dot(rest_vectors[first + k], rest_vectors[first + k]);
+            s.pair_weight2[k] = cc * cc;
+            s.pair_target2 += glm::dot(rest_vector, rest_vector);
             for (int x = 0; x < 3; ++x) {
-                s.pulled[x][sc] += c.coefficient * rest_vectors[first + k][x];
-                s.pulled[x][sd] += d.coefficient * rest_vectors[first + k][x];
+                s.pulled[x][sc] += cc * rest_vector[x];
+                s.pulled[x][sd] += dc * rest_vector[x];
             }
-            b[k + 1][sc] += c.coefficient;
-            b[k + 1][sd] += d.coefficient;
+            b[k + 1][sc] += cc;
+            b[k + 1][sd] += dc;
+        };
+        if (weight > 0.0) {
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t j = model.dual.neighbors[f][k];
+                const std::uint32_t c = opposite_vertex(t, mesh.triangles[j]);
+                const std::uint32_t d = opposite_vertex(mesh.triangles[j], t);
+                if (c != mesh::no_index && d != mesh::no_index) add_pair(c, d, 1.0 / 3.0);
+                const std::uint32_t a = t[k];
+                const std::uint32_t e = t[(k + 1) % 3];
+                const double length = glm::length(mesh.positions[a] - mesh.positions[e]);
+                if (length > 0.0) add_pair(a, e, relative_edge_weight * mean_edge / length);
+            }
         }
+        rigidity_rows_ += s.pair_count;
         for (std::size_t i = 0; i < used; ++i) {
             if (s.unknown[i] == mesh::no_index) continue;
             for (std::size_t j = 0; j < used; ++j) {

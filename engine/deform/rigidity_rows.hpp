@@ -34,24 +34,37 @@ struct RigidityStencil {
     static constexpr std::size_t slots = 6;  // a dual row's vertices: f's and the three opposite
     static constexpr std::size_t pairs = 6;  // rigidity rows per dual row: 3 dual, 3 face edges
 
-    std::array<std::uint32_t, slots> vertex{};
+    // First what the normal matrix's assembly reads, together: it visits
+    // each stencil once per unknown in it, in no order the caches follow.
     std::array<std::uint32_t, slots> unknown{};                  // no_index: fixed, or unused
     std::array<double, slots> dual{};                            // the dual row's coefficients
-    std::array<std::array<double, slots>, 3> pulled{};           // G_i of the rigidity rows alone
+    std::array<double, pairs> pair_weight2{};                    // (w s)²: A_k p = w s (v_c − v_d)
     std::array<std::array<std::uint8_t, 2>, pairs> pair_slot{};  // the slots of v_c, v_d
-    std::array<double, pairs> pair_weight2{};  // (w s)²: A_k p = w s (v_c − v_d)
-    glm::dvec3 rest_dual{0.0};                 // l_f at rest
+    std::uint8_t pair_count = 0;  // the rows in use, in their order in A
+    std::array<std::uint32_t, slots> vertex{};
+    std::array<std::array<double, slots>, 3> pulled{};  // G_i of the rigidity rows alone
+    glm::dvec3 rest_dual{0.0};                          // l_f at rest
     double rest_dual2 = 0.0;                   // |l_f|² at rest
     double pair_target2 = 0.0;                 // Σ_k |g_k|² over the rigidity rows
 };
 
 class RotationFrames {
 public:
-    // Appends the rigidity rows of each dual row of `rows` (those that touch
+    // Makes the rigidity rows of each dual row of `rows` (those that touch
     // an unknown), weighted by `weight` against the dual Laplacian rows, and
-    // starts every rotation at the identity. `rows` must hold the dual rows
-    // alone on entry.
-    void build(const MeshModel& model, const UnknownMap& unknowns, double weight, SystemRows& rows);
+    // starts every rotation at the identity. A's rows are the dual rows in
+    // their order, then each dual row's rigidity rows in turn.
+    void build(const MeshModel& model, const UnknownMap& unknowns, double weight,
+               const SystemRows& rows);
+
+    // N = AᵀA + w² H + ε I over A's rows, each entry summed in A's row
+    // order (the bits of assemble_normal_matrix over the same rows), with
+    // the arguments of assemble_normal_matrix.
+    solver::CsrMatrix assemble_normal_matrix(std::size_t unknown_count,
+                                             std::span<const std::uint32_t> soft_handles,
+                                             double handle_weight, double relative_epsilon,
+                                             double& epsilon,
+                                             const std::atomic<bool>* stop = nullptr) const;
 
     // The local step, and the global step's right-hand side in the same
     // pass: fits each dual row's rotation to `positions` (the whole mesh),
@@ -69,6 +82,7 @@ public:
     void keep_fit() { kept_.swap(fitted_); }
 
     std::size_t dual_rows() const { return stencils_.size(); }
+    std::size_t rigidity_rows() const { return rigidity_rows_; }
     std::size_t memory_bytes() const { return capacity_bytes(stencils_, fixed_, kept_, fitted_); }
 
 private:
@@ -81,6 +95,7 @@ private:
     };
 
     std::vector<RigidityStencil> stencils_;  // per dual row
+    std::size_t rigidity_rows_ = 0;
     std::vector<FixedCoupling> fixed_;
     std::vector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
     std::vector<glm::dquat> fitted_;  // per dual row: the last fit

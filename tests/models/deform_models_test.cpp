@@ -96,11 +96,60 @@ TEST_CASE("cow: the dual Laplacian and one fixed vertex rebuild the mesh") {
     CHECK(worst < 1e-8 * model.diagonal);
 }
 
+namespace {
+
+// The fitted method's rows of A after the dual rows, written out here from
+// their definition (docs/method.md): for each dual row's face f and each
+// k, the dual edge between the vertices opposite f's k-th shared edge,
+// w/3 (v_c − v_d), then f's k-th edge, w 0.2 l̄/l (v_a − v_b); only rows
+// that touch an unknown.
+void append_rigidity_rows(const deform::MeshModel& model, const deform::UnknownMap& unknowns,
+                          double weight, deform::SystemRows& rows) {
+    const mesh::Mesh& mesh = model.mesh;
+    double mean_edge = 0.0;
+    for (const auto& e : model.topology.edges)
+        mean_edge += glm::length(mesh.positions[e[0]] - mesh.positions[e[1]]);
+    mean_edge /= static_cast<double>(model.topology.edges.size());
+    auto opposite = [](const mesh::Triangle& t, const mesh::Triangle& other) {
+        for (std::uint32_t v : t)
+            if (v != other[0] && v != other[1] && v != other[2]) return v;
+        return mesh::no_index;
+    };
+    auto add = [&](std::uint32_t c, std::uint32_t d, double scale, std::uint32_t f) {
+        const std::uint32_t uc = unknowns.unknown_of_vertex[c];
+        const std::uint32_t ud = unknowns.unknown_of_vertex[d];
+        if (uc == mesh::no_index && ud == mesh::no_index) return;
+        rows.faces.push_back(f);
+        rows.entries.push_back({c, uc, weight * scale});
+        rows.entries.push_back({d, ud, -weight * scale});
+        rows.entry_offsets.push_back(static_cast<std::uint32_t>(rows.entries.size()));
+    };
+    const std::size_t dual_rows = rows.size();
+    for (std::size_t r = 0; r < dual_rows; ++r) {
+        const std::uint32_t f = rows.faces[r];
+        const mesh::Triangle& t = mesh.triangles[f];
+        for (int k = 0; k < 3; ++k) {
+            const mesh::Triangle& n = mesh.triangles[model.dual.neighbors[f][k]];
+            const std::uint32_t c = opposite(t, n);
+            const std::uint32_t d = opposite(n, t);
+            if (c != mesh::no_index && d != mesh::no_index) add(c, d, 1.0 / 3.0, f);
+            const std::uint32_t a = t[k];
+            const std::uint32_t b = t[(k + 1) % 3];
+            const double length = glm::length(mesh.positions[a] - mesh.positions[b]);
+            if (length > 0.0) add(a, b, 0.2 * mean_edge / length, f);
+        }
+    }
+}
+
+}  // namespace
+
 TEST_CASE("cow: the normal matrix is AᵀA + w²H + εI, each entry summed in A's row order") {
     // The fitted method's rows (dual and rigidity rows) of the front leg's
     // ball, the first vertices as soft handles: every entry must be the
     // bits of the sum taken row by row of A, the diagonal starting from its
-    // handle and ε terms, and the pattern exactly the nonzero pairs.
+    // handle and ε terms, and the pattern exactly the nonzero pairs; both
+    // from the rows listed (assemble_normal_matrix) and from the stencils
+    // alone (RotationFrames::assemble_normal_matrix).
     const deform::MeshModel model = test::load_real_model("cow");
     const std::vector<std::uint32_t> roi = test::ball_around(model, 771, 0.2);
     deform::UnknownMap unknowns;
@@ -113,13 +162,19 @@ TEST_CASE("cow: the normal matrix is AᵀA + w²H + εI, each entry summed in A'
     const std::size_t dual_rows = rows.size();
     deform::RotationFrames frames;
     frames.build(model, unknowns, 0.1, rows);
+    append_rigidity_rows(model, unknowns, 0.1, rows);
     REQUIRE(rows.size() > dual_rows);
+    CHECK(frames.rigidity_rows() == rows.size() - dual_rows);
     const std::vector<std::uint32_t> soft = {0, 1, 2, 2};
     const double weight = 3.0;
+    double listed_epsilon = 0.0;
+    const solver::CsrMatrix listed = deform::assemble_normal_matrix(
+        rows, unknowns.count(), soft, weight, 1e-6, listed_epsilon);
     double epsilon = 0.0;
-    const solver::CsrMatrix n =
-        deform::assemble_normal_matrix(rows, unknowns.count(), soft, weight, 1e-6, epsilon);
+    const solver::CsrMatrix from_stencils =
+        frames.assemble_normal_matrix(unknowns.count(), soft, weight, 1e-6, epsilon);
     CHECK(epsilon > 0.0);
+    CHECK(std::memcmp(&epsilon, &listed_epsilon, sizeof epsilon) == 0);
 
     std::map<std::pair<std::uint32_t, std::uint32_t>, double> expected;
     std::vector<double> handle(unknowns.count(), 0.0);
@@ -135,18 +190,20 @@ TEST_CASE("cow: the normal matrix is AᵀA + w²H + εI, each entry summed in A'
             }
         }
     }
-    REQUIRE(n.rows == unknowns.count());
-    REQUIRE(n.nonzeros() == expected.size());
-    std::size_t mismatches = 0;
-    auto e = expected.begin();
-    for (std::uint32_t i = 0; i < n.rows; ++i) {
-        for (std::size_t k = n.row_offsets[i]; k < n.row_offsets[i + 1]; ++k, ++e) {
-            const bool same = e->first == std::pair(i, n.col_indices[k]) &&
-                              std::memcmp(&e->second, &n.values[k], sizeof(double)) == 0;
-            mismatches += same ? 0 : 1;
+    for (const solver::CsrMatrix* n : {&listed, &from_stencils}) {
+        REQUIRE(n->rows == unknowns.count());
+        REQUIRE(n->nonzeros() == expected.size());
+        std::size_t mismatches = 0;
+        auto e = expected.begin();
+        for (std::uint32_t i = 0; i < n->rows; ++i) {
+            for (std::size_t k = n->row_offsets[i]; k < n->row_offsets[i + 1]; ++k, ++e) {
+                const bool same = e->first == std::pair(i, n->col_indices[k]) &&
+                                  std::memcmp(&e->second, &n->values[k], sizeof(double)) == 0;
+                mismatches += same ? 0 : 1;
+            }
         }
+        CHECK(mismatches == 0);
     }
-    CHECK(mismatches == 0);
 }
 
 TEST_CASE("cow: zero handle motion returns the rest mesh; outside the ROI is bit-identical") {

@@ -1,0 +1,107 @@
+// The fitted method's normal matrix from the stencils alone: a dual row and
+// its rigidity rows share their vertices, so one stencil holds all of their
+// coefficients, and N is summed without the rows of A ever being listed.
+// Each entry takes its terms in A's row order (every dual row, then every
+// rigidity row, each group in stencil order), the order in which
+// assemble_normal_matrix sums the same rows: the same bits.
+#include <numeric>
+
+#include "deform/rigidity_rows.hpp"
+
+namespace dfm::deform {
+
+namespace {
+
+// Stencils ahead whose coefficients the assembly prefetches.
+constexpr std::size_t prefetch_distance = 4;
+
+// Where an unknown sits in a stencil.
+struct StencilUse {
+    std::uint32_t stencil;
+    std::uint32_t slot;
+};
+
+}  // namespace
+
+solver::CsrMatrix RotationFrames::assemble_normal_matrix(
+    std::size_t unknown_count, std::span<const std::uint32_t> soft_handles, double handle_weight,
+    double relative_epsilon, double& epsilon, const std::atomic<bool>* stop) const {
+    constexpr std::size_t slots = RigidityStencil::slots;
+    std::vector<std::uint32_t> offsets(unknown_count + 1, 0);
+    std::vector<double> squares(unknown_count, 0.0);
+    for (const RigidityStencil& s : stencils_) {
+        for (std::size_t i = 0; i < slots; ++i) {
+            if (s.unknown[i] == mesh::no_index) continue;
+            ++offsets[s.unknown[i] + 1];
+            squares[s.unknown[i]] += s.dual[i] * s.dual[i];
+        }
+    }
+    // A rigidity row's entries are ±w s: either squared is its weight².
+    for (const RigidityStencil& s : stencils_) {
+        for (std::size_t k = 0; k < s.pair_count; ++k) {
+            for (const std::uint8_t slot : s.pair_slot[k]) {
+                if (s.unknown[slot] != mesh::no_index) squares[s.unknown[slot]] += s.pair_weight2[k];
+            }
+        }
+    }
+    const std::vector<double> diagonal = normal_diagonal_start(
+        std::move(squares), soft_handles, handle_weight, relative_epsilon, epsilon);
+
+    std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+    std::vector<StencilUse> uses(offsets.back());
+    {
+        std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+        for (std::uint32_t r = 0; r < stencils_.size(); ++r) {
+            const RigidityStencil& s = stencils_[r];
+            for (std::uint32_t i = 0; i < slots; ++i) {
+                if (s.unknown[i] != mesh::no_index) uses[fill[s.unknown[i]]++] = {r, i};
+            }
+        }
+    }
+
+    NormalRows n(unknown_count);
+    for (std::uint32_t i = 0; i < unknown_count; ++i) {
+        // A few hundred rows take well under a millisecond.
+        if (stop != nullptr && i % 256 == 0 && stop->load(std::memory_order_relaxed))
+            return solver::CsrMatrix{};
+        n.add(i, diagonal[i]);
+        for (std::uint32_t q = offsets[i]; q < offsets[i + 1]; ++q) {
+            if (q + prefetch_distance < uses.size()) {
+                const RigidityStencil& ahead = stencils_[uses[q + prefetch_distance].stencil];
+                __builtin_prefetch(&ahead.unknown);
+                __builtin_prefetch(&ahead.pair_weight2);
+                __builtin_prefetch(&ahead.pair_count);
+            }
+            const RigidityStencil& s = stencils_[uses[q].stencil];
+            const double a = s.dual[uses[q].slot];
+            for (std::size_t j = 0; j < slots; ++j) {
+                if (s.unknown[j] != mesh::no_index) n.add(s.unknown[j], a * s.dual[j]);
+            }
+        }
+        // Row k's entries are +w s at v_c and −w s at v_d: their products
+        // are ±(w s)², exactly.
+        for (std::uint32_t q = offsets[i]; q < offsets[i + 1]; ++q) {
+            const RigidityStencil& s = stencils_[uses[q].stencil];
+            const std::uint32_t slot = uses[q].slot;
+            // The rows that hold this slot, as bits: fewer branches to miss.
+            unsigned holding = 0;
+            for (std::size_t k = 0; k < s.pair_count; ++k) {
+                holding |= static_cast<unsigned>((s.pair_slot[k][0] == slot) |
+                                                 (s.pair_slot[k][1] == slot))
+                           << k;
+            }
+            for (; holding != 0; holding &= holding - 1) {
+                const int k = __builtin_ctz(holding);
+                const std::uint8_t c = s.pair_slot[k][0];
+                const std::uint8_t d = s.pair_slot[k][1];
+                const double w2 = s.pair_weight2[k];
+                if (s.unknown[c] != mesh::no_index) n.add(s.unknown[c], slot == c ? w2 : -w2);
+                if (s.unknown[d] != mesh::no_index) n.add(s.unknown[d], slot == d ? w2 : -w2);
+            }
+        }
+        n.finish_row();
+    }
+    return n.take();
+}
+
+}  // namespace dfm::deform
