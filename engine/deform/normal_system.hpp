@@ -52,32 +52,33 @@ std::vector<double> normal_diagonal_start(std::vector<double> squares,
                                           double handle_weight, double relative_epsilon,
                                           double& epsilon);
 
-// N built row after row: each row's terms gather in a sparse accumulator
-// (a marker per column keeps it linear in its terms, a term for a column
-// already there adds to it in the order given), and finish_row appends the
-// row sorted by column.
+// N built row after row: each row's terms gather in a dense accumulator,
+// a term for a column already there added to it in the order given, and
+// finish_row appends the row sorted by column. The accumulator holds −0,
+// the sum's identity (−0 + v is v for every v, zeros of either sign
+// included), so a column's first term is kept as it is, and the columns
+// are listed without a branch: this is the inner loop of the set-up.
 class NormalRows {
 public:
     explicit NormalRows(std::size_t unknowns);
 
     void add(std::uint32_t column, double value) {
-        if (slot_[column] == mesh::no_index) {
-            slot_[column] = static_cast<std::uint32_t>(columns_.size());
-            columns_.push_back(column);
-            values_.push_back(value);
-        } else {
-            values_[slot_[column]] += value;
-        }
+        columns_[count_] = column;
+        count_ += seen_[column] != stamp_;
+        seen_[column] = stamp_;
+        sums_[column] += value;
     }
     void finish_row();
     solver::CsrMatrix take() { return std::move(n_); }
 
 private:
     solver::CsrMatrix n_;
-    std::size_t row_ = 0;
-    std::vector<std::uint32_t> slot_;
-    std::vector<std::uint32_t> columns_;
-    std::vector<double> values_;
+    std::uint32_t stamp_ = 1;  // the row being gathered, plus one
+    std::size_t count_ = 0;
+    std::vector<std::uint32_t> seen_;     // per column: the stamp of the row that last had it
+    std::vector<double> sums_;            // per column
+    std::vector<std::uint32_t> columns_;  // this row's, in the order first met
+    std::vector<std::uint32_t> sorted_;   // this row's, by column
 };
 
 // Assembles N with sorted, duplicate-free rows. `soft_handles` are the
