@@ -88,7 +88,12 @@ Status LinearSolver::setup(solver::CsrMatrix matrix, solver::PreconditionerKind 
                            solver::ThreadPool* pool, const std::atomic<bool>* stop) {
     auto state = std::make_unique<State>();
     state->matrix = std::move(matrix);
-    state->preconditioner = solver::make_preconditioner(preconditioner, pool);
+    if (analyzed_ != nullptr && preconditioner == solver::PreconditionerKind::cholesky) {
+        state->preconditioner = std::move(analyzed_);
+    } else {
+        state->preconditioner = solver::make_preconditioner(preconditioner, pool);
+    }
+    analyzed_.reset();
     if (auto* cholesky = dynamic_cast<solver::CholeskyPreconditioner*>(state->preconditioner.get()))
         cholesky->set_stop(stop);
     if (Status s = state->preconditioner->setup(state->matrix); !s) return s;
@@ -101,6 +106,20 @@ Status LinearSolver::setup(solver::CsrMatrix matrix, solver::PreconditionerKind 
     if (auto* cholesky = dynamic_cast<solver::CholeskyPreconditioner*>(state->preconditioner.get()))
         cholesky->set_stop(nullptr);
     state_ = std::move(state);
+    return Status::ok();
+}
+
+Status LinearSolver::analyze(const solver::CsrMatrix& pattern,
+                             solver::PreconditionerKind preconditioner, solver::ThreadPool* pool,
+                             const std::atomic<bool>* stop) {
+    analyzed_.reset();
+    if (preconditioner != solver::PreconditionerKind::cholesky) return Status::ok();
+    auto cholesky =
+        std::make_unique<solver::CholeskyPreconditioner>(solver::OrderingMethod::minimum_degree, pool);
+    cholesky->set_stop(stop);
+    if (Status s = cholesky->analyze(pattern); !s) return s;
+    cholesky->set_stop(nullptr);
+    analyzed_ = std::move(cholesky);
     return Status::ok();
 }
 

@@ -11,6 +11,10 @@
 #include "solver/sparse_cholesky.hpp"
 #include "solver/thread_pool.hpp"
 
+namespace dfm::solver {
+class CholeskyPreconditioner;
+}  // namespace dfm::solver
+
 namespace dfm::deform {
 
 // The normal matrix of an edit, prepared once and solved for x, y and z
@@ -29,6 +33,15 @@ public:
     // (solver::SparseCholesky::set_stop): Errc::cancelled.
     Status setup(solver::CsrMatrix matrix, solver::PreconditionerKind preconditioner,
                  solver::ThreadPool* pool = nullptr, const std::atomic<bool>* stop = nullptr);
+
+    // The complete factor's ordering and symbolic analysis from N's pattern
+    // alone (`pattern`'s values are not read), ahead of N's values, so that
+    // they can run beside the assembly: the next setup with the cholesky
+    // preconditioner and a matrix of this pattern only factors (with any
+    // other pattern it analyses again). Does nothing for the other
+    // preconditioners. The arguments are setup's.
+    Status analyze(const solver::CsrMatrix& pattern, solver::PreconditionerKind preconditioner,
+                   solver::ThreadPool* pool = nullptr, const std::atomic<bool>* stop = nullptr);
 
     enum class Accuracy {
         // Inside the outer iteration: with the complete factor, one step
@@ -75,6 +88,7 @@ public:
 private:
     struct State;
     std::unique_ptr<State> state_;
+    std::unique_ptr<solver::CholeskyPreconditioner> analyzed_;  // by analyze, for the next setup
 };
 
 }  // namespace dfm::deform

@@ -76,6 +76,67 @@ std::vector<double> normal_diagonal_start(std::vector<double> squares,
     return start;
 }
 
+namespace {
+
+// A row's distinct columns, in the order first met, into `sorted` by
+// column: each column's place is the count of the row's columns below it,
+// a few dozen compares a column without branches to miss, where a
+// comparison sort would mispredict about every other one.
+void sort_by_rank(std::span<const std::uint32_t> columns, std::uint32_t* sorted) {
+    for (const std::uint32_t column : columns) {
+        std::uint32_t rank = 0;
+        for (const std::uint32_t other : columns) rank += other < column;
+        sorted[rank] = column;
+    }
+}
+
+}  // namespace
+
+solver::CsrMatrix normal_pattern(const SystemRows& rows, std::size_t unknown_count) {
+    std::vector<std::uint32_t> offsets(unknown_count + 1, 0);
+    for (const RowEntry& e : rows.entries) {
+        if (e.unknown != mesh::no_index) ++offsets[e.unknown + 1];
+    }
+    std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+    std::vector<std::uint32_t> row_of(offsets.back());
+    {
+        std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+        for (std::uint32_t r = 0; r < rows.size(); ++r) {
+            for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
+                const std::uint32_t u = rows.entries[p].unknown;
+                if (u != mesh::no_index) row_of[fill[u]++] = r;
+            }
+        }
+    }
+    solver::CsrMatrix n;
+    n.rows = n.cols = unknown_count;
+    n.row_offsets.assign(unknown_count + 1, 0);
+    n.col_indices.reserve(24 * unknown_count);
+    std::vector<std::uint32_t> seen(unknown_count, mesh::no_index);
+    std::vector<std::uint32_t> columns(unknown_count);
+    std::vector<std::uint32_t> sorted(unknown_count);
+    for (std::uint32_t i = 0; i < unknown_count; ++i) {
+        columns[0] = i;  // N's diagonal is there even for an unknown in no row
+        seen[i] = i;
+        std::size_t count = 1;
+        for (std::uint32_t q = offsets[i]; q < offsets[i + 1]; ++q) {
+            const std::uint32_t r = row_of[q];
+            for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
+                const std::uint32_t u = rows.entries[p].unknown;
+                if (u == mesh::no_index) continue;
+                columns[count] = u;
+                count += seen[u] != i;
+                seen[u] = i;
+            }
+        }
+        sort_by_rank({columns.data(), count}, sorted.data());
+        n.col_indices.insert(n.col_indices.end(), sorted.begin(),
+                             sorted.begin() + static_cast<std::ptrdiff_t>(count));
+        n.row_offsets[i + 1] = n.col_indices.size();
+    }
+    return n;
+}
+
 NormalRows::NormalRows(std::size_t unknowns)
     : seen_(unknowns, 0), sums_(unknowns, -0.0), columns_(unknowns + 1), sorted_(unknowns) {
     n_.rows = n_.cols = unknowns;
@@ -86,15 +147,7 @@ NormalRows::NormalRows(std::size_t unknowns)
 }
 
 void NormalRows::finish_row() {
-    // Each column's place is the count of the row's columns below it (they
-    // are distinct): a few dozen compares a column, without branches to
-    // miss, where a comparison sort would mispredict about every other one.
-    for (std::size_t k = 0; k < count_; ++k) {
-        const std::uint32_t column = columns_[k];
-        std::uint32_t rank = 0;
-        for (std::size_t j = 0; j < count_; ++j) rank += columns_[j] < column;
-        sorted_[rank] = column;
-    }
+    sort_by_rank({columns_.data(), count_}, sorted_.data());
     for (std::size_t k = 0; k < count_; ++k) {
         const std::uint32_t column = sorted_[k];
         n_.col_indices.push_back(column);

@@ -43,6 +43,13 @@ struct SystemRows {
 
 SystemRows collect_rows(const MeshModel& model, const UnknownMap& unknowns);
 
+// N's pattern from the dual rows alone (values left empty): the columns of
+// row i are the unknowns of the rows that hold unknown i. The fitted
+// method's rigidity rows join vertices of one dual row, so this is its
+// pattern too; the analysis of the factor can start from it before the
+// values are summed.
+solver::CsrMatrix normal_pattern(const SystemRows& rows, std::size_t unknown_count);
+
 // N's diagonal before AᵀA's terms: w² for each listing of an unknown in
 // `soft_handles`, plus ε, `relative_epsilon` times the mean diagonal of
 // AᵀA + w² H (`squares`: AᵀA's diagonal, summed in A's row order).

@@ -21,7 +21,9 @@ struct CsrMatrix {
 
     std::size_t memory_bytes() const { return capacity_bytes(row_offsets, col_indices, values); }
 
-    std::size_t nonzeros() const { return values.size(); }
+    // The stored entries; counted by their columns, so that a pattern
+    // alone (values left empty) has them too.
+    std::size_t nonzeros() const { return col_indices.size(); }
 
     // y = A x for `k` interleaved vectors: x[j * k + c] is entry j of vector
     // c. One pass over the matrix serves all k.

@@ -106,6 +106,10 @@ public:
     // Fails when A is not square, its pattern not symmetric, or it is not
     // positive definite (Errc::numerical naming the row).
     Status setup(const CsrMatrix& a) override;
+    // The ordering and symbolic analysis of A's pattern alone (its values
+    // are not read): a later setup with a matrix of this pattern only
+    // factors.
+    Status analyze(const CsrMatrix& pattern) { return cholesky_.analyze(pattern, ordering_); }
     void reserve(std::size_t k) override;
     void apply(std::span<const double> r, std::span<double> z, std::size_t k) override;
     const char* name() const override { return "cholesky"; }

@@ -149,7 +149,8 @@ TEST_CASE("cow: the normal matrix is AᵀA + w²H + εI, each entry summed in A'
     // bits of the sum taken row by row of A, the diagonal starting from its
     // handle and ε terms, and the pattern exactly the nonzero pairs; both
     // from the rows listed (assemble_normal_matrix) and from the stencils
-    // alone (RotationFrames::assemble_normal_matrix).
+    // alone (RotationFrames::assemble_normal_matrix); normal_pattern gives
+    // the same pattern from the dual rows alone.
     const deform::MeshModel model = test::load_real_model("cow");
     const std::vector<std::uint32_t> roi = test::ball_around(model, 771, 0.2);
     deform::UnknownMap unknowns;
@@ -162,6 +163,8 @@ TEST_CASE("cow: the normal matrix is AᵀA + w²H + εI, each entry summed in A'
     const std::size_t dual_rows = rows.size();
     deform::RotationFrames frames;
     frames.build(model, unknowns, 0.1, rows);
+    // The pattern the factor's analysis starts from, before any value.
+    const solver::CsrMatrix pattern = deform::normal_pattern(rows, unknowns.count());
     append_rigidity_rows(model, unknowns, 0.1, rows);
     REQUIRE(rows.size() > dual_rows);
     CHECK(frames.rigidity_rows() == rows.size() - dual_rows);
@@ -190,6 +193,9 @@ TEST_CASE("cow: the normal matrix is AᵀA + w²H + εI, each entry summed in A'
             }
         }
     }
+    CHECK(pattern.row_offsets == from_stencils.row_offsets);
+    CHECK(pattern.col_indices == from_stencils.col_indices);
+    CHECK(pattern.values.empty());
     for (const solver::CsrMatrix* n : {&listed, &from_stencils}) {
         REQUIRE(n->rows == unknowns.count());
         REQUIRE(n->nonzeros() == expected.size());
