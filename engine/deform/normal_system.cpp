@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <tuple>
 
 namespace dfm::deform {
 
@@ -34,9 +35,14 @@ std::vector<std::uint8_t> faces_near_unknowns(const MeshModel& model, const Unkn
 SystemRows collect_rows(const MeshModel& model, const UnknownMap& unknowns) {
     const mesh::Mesh& mesh = model.mesh;
     SystemRows rows;
-    rows.entry_offsets.push_back(0);
     std::vector<std::uint8_t> needs_centroid(mesh.face_count(), 0);
     const std::vector<std::uint8_t> near = faces_near_unknowns(model, unknowns);
+    // A dual row has six entries at most: room for every near face's.
+    const auto near_faces = static_cast<std::size_t>(std::count(near.begin(), near.end(), 1));
+    rows.faces.reserve(near_faces);
+    rows.entry_offsets.reserve(near_faces + 1);
+    rows.entries.reserve(std::tuple_size_v<decltype(dual::DualRow::vertices)> * near_faces);
+    rows.entry_offsets.push_back(0);
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
         if (!model.dual.has_row[f] || !near[f]) continue;
         const dual::DualRow row = dual::dual_row(mesh, model.dual, f);

@@ -56,11 +56,14 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
     }
     mean_edge /= static_cast<double>(std::max<std::size_t>(model.topology.edges.size(), 1));
 
-    stencils_.assign(dual_rows, RigidityStencil{});
+    // Each stencil is made on the stack and written once: filling a
+    // zeroed array would write its 340 bytes twice.
+    stencils_.clear();
+    stencils_.reserve(dual_rows);
     fixed_.clear();
     rigidity_rows_ = 0;
     for (std::size_t r = 0; r < dual_rows; ++r) {
-        RigidityStencil& s = stencils_[r];
+        RigidityStencil s;
         const std::uint32_t f = rows.faces[r];
         const mesh::Triangle& t = mesh.triangles[f];
         s.rest_dual = dual::dual_coordinate(model.dual, rest, f);
@@ -129,6 +132,7 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
                 if (coupling != 0.0) fixed_.push_back({s.unknown[i], s.vertex[j], -coupling});
             }
         }
+        stencils_.push_back(s);
     }
     // The same pair comes from every dual row that holds both: one term each.
     std::sort(fixed_.begin(), fixed_.end(), [](const FixedCoupling& x, const FixedCoupling& y) {
