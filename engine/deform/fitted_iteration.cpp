@@ -45,7 +45,8 @@ double DeformSession::fit_and_prepare(std::span<const double> x, int rotation_st
         write_handle_terms(x, soft_handles_, targets_, settings_.handle_weight, epsilon_, rhs_);
     report.rhs_ms += ms_since(phase);
     phase = std::chrono::steady_clock::now();
-    const double fitted = frames_.fit_and_add(positions_, height_scale_, rotation_steps, rhs_);
+    const double fitted =
+        frames_.fit_and_add(positions_, height_scale_, rotation_steps, rhs_, settings_.pool);
     report.normals_ms += ms_since(phase);
     return handles + fitted;
 }

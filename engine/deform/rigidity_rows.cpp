@@ -154,6 +154,10 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
 
 namespace {
 
+// Per stencil of a deferred pass: R_f G_i by slot and coordinate, then the
+// row's energy.
+constexpr std::size_t deferred_stride = 3 * slots + 1;
+
 struct FitPass {
     std::span<const RigidityStencil> stencils;
     std::span<const glm::dquat> kept;
@@ -162,6 +166,10 @@ struct FitPass {
     std::span<const double> height_scale;
     int steps;
     std::span<double> rhs;
+    // Null: each row adds its share to rhs and the pass returns the energy.
+    // Otherwise each row's share and energy are kept here (deferred_stride
+    // doubles a row), for the caller to add in order.
+    double* deferred = nullptr;
 };
 
 // Two doubles, the width every x86-64 processor has: the slots go three
@@ -256,6 +264,15 @@ struct PreparedRow {
         for (std::size_t l = 0; l < lanes; ++l)
             pull[x][l] = r0 * g[0][l] + r1 * g[1][l] + r2 * g[2][l];
     }
+    const double energy =
+        in.rows2 - 2.0 * alignment + in.scale * in.scale * s.rest_dual2 + s.pair_target2;
+    if (pass.deferred != nullptr) {
+        double* kept = pass.deferred + r * deferred_stride;
+        for (std::size_t i = 0; i < slots; ++i)
+            for (std::size_t x = 0; x < 3; ++x) kept[3 * i + x] = pull[x][i / 2][i % 2];
+        kept[3 * slots] = energy;
+        return 0.0;
+    }
     for (std::size_t i = 0; i < slots; ++i) {
         if (s.unknown[i] == mesh::no_index) continue;
         double* out = &pass.rhs[3 * s.unknown[i]];
@@ -263,7 +280,7 @@ struct PreparedRow {
         out[1] += pull[1][i / 2][i % 2];
         out[2] += pull[2][i / 2][i % 2];
     }
-    return in.rows2 - 2.0 * alignment + in.scale * in.scale * s.rest_dual2 + s.pair_target2;
+    return energy;
 }
 
 // Four dual rows at a time, their rotations fitted side by side in the
@@ -314,7 +331,7 @@ struct PreparedRow {
     return energy;
 }
 
-double fit_rows(const FitPass& pass) {
+double fit_rows_plain(const FitPass& pass) {
     return fit_rows_body(pass);
 }
 
@@ -332,11 +349,22 @@ __attribute__((target("avx2"))) double fit_rows_avx2(const FitPass& pass) {
 }
 #endif
 
+double fit_rows(const FitPass& pass) {
+#if DFM_HAS_AVX2_FIT
+    if (avx2_available()) return fit_rows_avx2(pass);
+#endif
+    return fit_rows_plain(pass);
+}
+
+// Fewer rows than this are fitted by one thread: a second one's wake-up
+// would cost more than it saves.
+constexpr std::size_t split_minimum = 8192;
+
 }  // namespace
 
 double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
                                    std::span<const double> height_scale, int steps,
-                                   std::span<double> rhs) {
+                                   std::span<double> rhs, solver::ThreadPool* pool) {
     for (const FixedCoupling& c : fixed_) {
         const glm::dvec3& p = positions[c.vertex];
         double* out = &rhs[3 * c.unknown];
@@ -344,11 +372,48 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
         out[1] += c.coefficient * p.y;
         out[2] += c.coefficient * p.z;
     }
-#if DFM_HAS_AVX2_FIT
-    if (avx2_available())
-        return fit_rows_avx2({stencils_, kept_, fitted_, positions, height_scale, steps, rhs});
-#endif
-    return fit_rows({stencils_, kept_, fitted_, positions, height_scale, steps, rhs});
+    const std::size_t count = stencils_.size();
+    const FitPass whole{stencils_, kept_, fitted_, positions, height_scale, steps, rhs};
+    if (pool == nullptr || pool->thread_count() < 2 || count < split_minimum)
+        return fit_rows(whole);
+    // Two halves side by side: the first adds to rhs as it goes, the second
+    // keeps its rows' shares and energies, which are then added after the
+    // first half's, row by row in order: the sums of the one-thread pass,
+    // bit for bit.
+    const std::size_t half = count / 2 - count / 2 % fit_lanes::width;
+    const auto part = [&](std::size_t begin, std::size_t end, double* deferred) {
+        return FitPass{std::span(stencils_).subspan(begin, end - begin),
+                       std::span(kept_).subspan(begin, end - begin),
+                       std::span(fitted_).subspan(begin, end - begin),
+                       positions,
+                       height_scale.empty() ? height_scale
+                                            : height_scale.subspan(begin, end - begin),
+                       steps,
+                       rhs,
+                       deferred};
+    };
+    deferred_.resize((count - half) * deferred_stride);
+    double energy = 0.0;
+    pool->run(2, [&](std::size_t task) {
+        if (task == 0) {
+            energy = fit_rows(part(0, half, nullptr));
+        } else {
+            fit_rows(part(half, count, deferred_.data()));
+        }
+    });
+    for (std::size_t r = half; r < count; ++r) {
+        const RigidityStencil& s = stencils_[r];
+        const double* kept = &deferred_[(r - half) * deferred_stride];
+        for (std::size_t i = 0; i < slots; ++i) {
+            if (s.unknown[i] == mesh::no_index) continue;
+            double* out = &rhs[3 * s.unknown[i]];
+            out[0] += kept[3 * i];
+            out[1] += kept[3 * i + 1];
+            out[2] += kept[3 * i + 2];
+        }
+        energy += kept[3 * slots];
+    }
+    return energy;
 }
 
 }  // namespace dfm::deform

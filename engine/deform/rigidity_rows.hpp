@@ -10,6 +10,7 @@
 #include "core/memory_bytes.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
+#include "solver/thread_pool.hpp"
 
 // The default method's local step (docs/method.md). Each dual row f gets a
 // rotation R_f fitted to its dual 1-ring, and its rows follow it: the dual
@@ -74,8 +75,10 @@ public:
     // rows' share of the energy (deform_energy.hpp). A fit never raises the energy of its rows over
     // the kept rotations. `height_scale`, when not empty, scales each dual row's target
     // (DeformSettings::scale_heights).
+    // With `pool` (optional) of two threads or more, a large ROI's rows are
+    // fitted in two halves side by side, with the same bits.
     double fit_and_add(std::span<const glm::dvec3> positions, std::span<const double> height_scale,
-                       int steps, std::span<double> rhs);
+                       int steps, std::span<double> rhs, solver::ThreadPool* pool = nullptr);
 
     // Makes the last fit the next one's starting point. A refused trial step
     // is not kept: the next fit starts again from the rotations before it.
@@ -83,7 +86,9 @@ public:
 
     std::size_t dual_rows() const { return stencils_.size(); }
     std::size_t rigidity_rows() const { return rigidity_rows_; }
-    std::size_t memory_bytes() const { return capacity_bytes(stencils_, fixed_, kept_, fitted_); }
+    std::size_t memory_bytes() const {
+        return capacity_bytes(stencils_, fixed_, kept_, fitted_, deferred_);
+    }
 
 private:
     // −(Aᵀ A)_uv between an unknown u and a fixed vertex v: the fixed
@@ -99,6 +104,7 @@ private:
     std::vector<FixedCoupling> fixed_;
     std::vector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
     std::vector<glm::dquat> fitted_;  // per dual row: the last fit
+    std::vector<double> deferred_;    // the second half's shares in a two-thread fit
 };
 
 }  // namespace dfm::deform
