@@ -1,4 +1,4 @@
-// sdk_bench [--model NAME] [--roi N] [--frames F] [--tolerance T]
+// sdk_bench [--model NAME] [--roi N] [--frames F] [--tolerance T] [--workers W]
 //
 // Uses only the public C API. Builds a ball ROI of at least N vertices
 // (default 20000) on the model (default armadillo) with a small handle ball
@@ -123,6 +123,7 @@ int main(int argc, char** argv) {
     std::size_t roi_target = 20000;
     int frames = 120;
     double tolerance = 1e-5;
+    std::uint32_t workers = 1;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string flag = argv[i];
         if (flag == "--model") {
@@ -133,9 +134,12 @@ int main(int argc, char** argv) {
             frames = std::atoi(argv[i + 1]);
         } else if (flag == "--tolerance") {
             tolerance = std::atof(argv[i + 1]);
+        } else if (flag == "--workers") {
+            workers = static_cast<std::uint32_t>(std::strtoul(argv[i + 1], nullptr, 10));
         } else {
-            std::fprintf(
-                stderr, "usage: sdk_bench [--model NAME] [--roi N] [--frames F] [--tolerance T]\n");
+            std::fprintf(stderr,
+                         "usage: sdk_bench [--model NAME] [--roi N] [--frames F] [--tolerance T] "
+                         "[--workers W]\n");
             return 2;
         }
     }
@@ -143,6 +147,7 @@ int main(int argc, char** argv) {
     const std::string models = dfm::tools::models_folder_from_environment().string();
     dfm_context_desc context_desc = {};
     context_desc.models_directory = models.c_str();
+    context_desc.worker_count = workers;
     check(dfm_context_create(&context_desc, &context), "dfm_context_create");
     Edit e;
     check(dfm_mesh_load(context, model.c_str(), &e.mesh), "dfm_mesh_load");
@@ -355,8 +360,9 @@ int main(int argc, char** argv) {
 
     std::printf(
         "{\"model\": \"%s\", \"vertices\": %zu, \"roi\": %zu, \"handle\": %zu, "
-        "\"tolerance\": %g, \"drag_frames\": %d",
-        model.c_str(), e.info.vertex_count, e.roi_size, e.handle.size(), tolerance, frames);
+        "\"tolerance\": %g, \"drag_frames\": %d, \"workers\": %u",
+        model.c_str(), e.info.vertex_count, e.roi_size, e.handle.size(), tolerance, frames,
+        static_cast<unsigned>(workers));
     const std::string fields[] = {
         json("create_return", stats_of(create_return_ms), "ms"),
         json("create_cpu", stats_of(create_cpu_ms), "ms"),
