@@ -53,6 +53,11 @@ void backward_supernode(const CholeskySymbolic& sym, std::span<const double> val
                         y + first * k, y, scratch);
 }
 
+// Fewer unknowns than this are solved by one thread: below it, waking the
+// others costs more than their share of the work (a camel leg's drag frame
+// took 0.34 ms on two workers against 0.24 on one).
+constexpr std::size_t parallel_solve_minimum = 8192;
+
 }  // namespace
 
 std::size_t SparseCholesky::solve_work_size(std::size_t k, std::size_t threads) const {
@@ -71,7 +76,8 @@ void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::
         for (std::size_t c = 0; c < k; ++c) y[i * k + c] = from[c];
     }
     const std::size_t threads = pool != nullptr ? pool->thread_count() : 1;
-    const bool split = threads > 1 && schedule_.subtrees.size() == threads &&
+    const bool split = threads > 1 && n >= parallel_solve_minimum &&
+                       schedule_.subtrees.size() == threads &&
                        work.size() >= solve_work_size(k, threads);
     if (split) {
         // Each subtree on one thread, pushing updates only inside itself;
