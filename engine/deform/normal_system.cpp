@@ -119,7 +119,9 @@ solver::CsrMatrix normal_pattern(const SystemRows& rows, std::size_t unknown_cou
     n.row_offsets.assign(unknown_count + 1, 0);
     n.col_indices.reserve(24 * unknown_count);
     std::vector<std::uint32_t> seen(unknown_count, mesh::no_index);
-    std::vector<std::uint32_t> columns(unknown_count);
+    // One past the row's columns: a column met again is written there
+    // before it is found to be no new one.
+    std::vector<std::uint32_t> columns(unknown_count + 1);
     std::vector<std::uint32_t> sorted(unknown_count);
     for (std::uint32_t i = 0; i < unknown_count; ++i) {
         columns[0] = i;  // N's diagonal is there even for an unknown in no row

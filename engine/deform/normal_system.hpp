@@ -84,7 +84,7 @@ private:
     std::size_t count_ = 0;
     std::vector<std::uint32_t> seen_;     // per column: the stamp of the row that last had it
     std::vector<double> sums_;            // per column
-    std::vector<std::uint32_t> columns_;  // this row's, in the order first met
+    std::vector<std::uint32_t> columns_;  // this row's, in the order first met, and one past
     std::vector<std::uint32_t> sorted_;   // this row's, by column
 };
 

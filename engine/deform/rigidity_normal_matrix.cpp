@@ -69,8 +69,9 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
             if (q + prefetch_distance < uses.size()) {
                 const RigidityStencil& ahead = stencils_[uses[q + prefetch_distance].stencil];
                 __builtin_prefetch(&ahead.unknown);
-                __builtin_prefetch(&ahead.pair_weight2);
-                __builtin_prefetch(&ahead.pair_count);
+                __builtin_prefetch(&ahead.dual[slots - 1]);
+                __builtin_prefetch(&ahead.pair_slot);
+                __builtin_prefetch(&ahead.pair_weight2[RigidityStencil::pairs - 1]);
             }
             const RigidityStencil& s = stencils_[uses[q].stencil];
             const double a = s.dual[uses[q].slot];

@@ -267,10 +267,10 @@ struct PreparedRow {
     const double energy =
         in.rows2 - 2.0 * alignment + in.scale * in.scale * s.rest_dual2 + s.pair_target2;
     if (pass.deferred != nullptr) {
-        double* kept = pass.deferred + r * deferred_stride;
+        double* share = pass.deferred + r * deferred_stride;
         for (std::size_t i = 0; i < slots; ++i)
-            for (std::size_t x = 0; x < 3; ++x) kept[3 * i + x] = pull[x][i / 2][i % 2];
-        kept[3 * slots] = energy;
+            for (std::size_t x = 0; x < 3; ++x) share[3 * i + x] = pull[x][i / 2][i % 2];
+        share[3 * slots] = energy;
         return 0.0;
     }
     for (std::size_t i = 0; i < slots; ++i) {
@@ -403,15 +403,15 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
     });
     for (std::size_t r = half; r < count; ++r) {
         const RigidityStencil& s = stencils_[r];
-        const double* kept = &deferred_[(r - half) * deferred_stride];
+        const double* share = &deferred_[(r - half) * deferred_stride];
         for (std::size_t i = 0; i < slots; ++i) {
             if (s.unknown[i] == mesh::no_index) continue;
             double* out = &rhs[3 * s.unknown[i]];
-            out[0] += kept[3 * i];
-            out[1] += kept[3 * i + 1];
-            out[2] += kept[3 * i + 2];
+            out[0] += share[3 * i];
+            out[1] += share[3 * i + 1];
+            out[2] += share[3 * i + 2];
         }
-        energy += kept[3 * slots];
+        energy += share[3 * slots];
     }
     return energy;
 }
