@@ -187,8 +187,10 @@ typedef struct dfm_context_desc {
     dfm_allocator allocator; /* both hooks NULL: malloc/free */
     dfm_log_fn log;          /* NULL: no logging */
     void* log_user;          /* passed to `log` */
-    /* Threads each session's solver uses for its factor and solves, its
-     * worker thread included; 0 means 1. Results do not depend on it. A
+    /* Threads each session's solver uses for its set-up, factor, solves
+     * and rotation fit, its worker thread included; 0 means 1. Results do
+     * not depend on it, bit for bit. Where a core is free, 2 keeps a
+     * 20,000-vertex drag up with a 60 Hz host (docs/benchmarks.md). A
      * session starts its worker ("dfm-session") and worker_count - 1
      * solver threads ("dfm-solver"), and stops them when destroyed. */
     uint32_t worker_count;
