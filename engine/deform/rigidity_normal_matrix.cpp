@@ -87,9 +87,9 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
             // The rows that hold this slot, as bits: fewer branches to miss.
             unsigned holding = 0;
             for (std::size_t k = 0; k < s.pair_count; ++k) {
-                holding |= static_cast<unsigned>((s.pair_slot[k][0] == slot) |
-                                                 (s.pair_slot[k][1] == slot))
-                           << k;
+                const unsigned at_c = s.pair_slot[k][0] == slot ? 1u : 0u;
+                const unsigned at_d = s.pair_slot[k][1] == slot ? 1u : 0u;
+                holding |= (at_c | at_d) << k;
             }
             for (; holding != 0; holding &= holding - 1) {
                 const int k = __builtin_ctz(holding);
