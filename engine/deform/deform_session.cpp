@@ -120,13 +120,12 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
             s->setup_.rows_ms = ms_since(phase);
             const auto assembly = std::chrono::steady_clock::now();
             normal = settings.method == DeformMethod::fitted_rotations
-                         ? s->frames_.assemble_normal_matrix(u.count(), s->soft_handles_,
-                                                             settings.handle_weight,
-                                                             settings.regularization, s->epsilon_,
-                                                             stop)
+                         ? s->frames_.assemble_normal_matrix(
+                               u.count(), s->soft_handles_, settings.handle_weight,
+                               settings.regularization, s->epsilon_, stop)
                          : assemble_normal_matrix(s->rows_, u.count(), s->soft_handles_,
-                                                  settings.handle_weight,
-                                                  settings.regularization, s->epsilon_, stop);
+                                                  settings.handle_weight, settings.regularization,
+                                                  s->epsilon_, stop);
             s->setup_.assembly_ms = ms_since(assembly);
         };
         // The complete factor's ordering and symbolic analysis need only N's

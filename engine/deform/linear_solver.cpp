@@ -114,8 +114,8 @@ Status LinearSolver::analyze(const solver::CsrMatrix& pattern,
                              const std::atomic<bool>* stop) {
     analyzed_.reset();
     if (preconditioner != solver::PreconditionerKind::cholesky) return Status::ok();
-    auto cholesky =
-        std::make_unique<solver::CholeskyPreconditioner>(solver::OrderingMethod::minimum_degree, pool);
+    auto cholesky = std::make_unique<solver::CholeskyPreconditioner>(
+        solver::OrderingMethod::minimum_degree, pool);
     cholesky->set_stop(stop);
     if (Status s = cholesky->analyze(pattern); !s) return s;
     cholesky->set_stop(nullptr);

@@ -40,7 +40,8 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
     for (const RigidityStencil& s : stencils_) {
         for (std::size_t k = 0; k < s.pair_count; ++k) {
             for (const std::uint8_t slot : s.pair_slot[k]) {
-                if (s.unknown[slot] != mesh::no_index) squares[s.unknown[slot]] += s.pair_weight2[k];
+                if (s.unknown[slot] != mesh::no_index)
+                    squares[s.unknown[slot]] += s.pair_weight2[k];
             }
         }
     }

@@ -382,15 +382,15 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
     // bit for bit.
     const std::size_t half = count / 2 - count / 2 % fit_lanes::width;
     const auto part = [&](std::size_t begin, std::size_t end, double* deferred) {
-        return FitPass{std::span(stencils_).subspan(begin, end - begin),
-                       std::span(kept_).subspan(begin, end - begin),
-                       std::span(fitted_).subspan(begin, end - begin),
-                       positions,
-                       height_scale.empty() ? height_scale
-                                            : height_scale.subspan(begin, end - begin),
-                       steps,
-                       rhs,
-                       deferred};
+        return FitPass{
+            std::span(stencils_).subspan(begin, end - begin),
+            std::span(kept_).subspan(begin, end - begin),
+            std::span(fitted_).subspan(begin, end - begin),
+            positions,
+            height_scale.empty() ? height_scale : height_scale.subspan(begin, end - begin),
+            steps,
+            rhs,
+            deferred};
     };
     deferred_.resize((count - half) * deferred_stride);
     double energy = 0.0;

@@ -171,8 +171,8 @@ TEST_CASE("cow: the normal matrix is AᵀA + w²H + εI, each entry summed in A'
     const std::vector<std::uint32_t> soft = {0, 1, 2, 2};
     const double weight = 3.0;
     double listed_epsilon = 0.0;
-    const solver::CsrMatrix listed = deform::assemble_normal_matrix(
-        rows, unknowns.count(), soft, weight, 1e-6, listed_epsilon);
+    const solver::CsrMatrix listed =
+        deform::assemble_normal_matrix(rows, unknowns.count(), soft, weight, 1e-6, listed_epsilon);
     double epsilon = 0.0;
     const solver::CsrMatrix from_stencils =
         frames.assemble_normal_matrix(unknowns.count(), soft, weight, 1e-6, epsilon);
