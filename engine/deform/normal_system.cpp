@@ -205,12 +205,7 @@ solver::CsrMatrix assemble_normal_matrix(const SystemRows& rows, std::size_t unk
 
     // Row i of N gathers, over every row of A that holds unknown i, the
     // products with that row's other unknowns.
-    NormalRows n(unknown_count);
-    for (std::uint32_t i = 0; i < unknown_count; ++i) {
-        // A few hundred rows take well under a millisecond.
-        if (stop != nullptr && i % 256 == 0 && stop->load(std::memory_order_relaxed))
-            return solver::CsrMatrix{};
-        n.add(i, diagonal[i]);
+    return gather_normal_rows(diagonal, stop, [&](std::uint32_t i, NormalRows& n) {
         for (std::uint32_t q = offsets[i]; q < offsets[i + 1]; ++q) {
             // The rows a few uses ahead are fetched while this one is summed.
             if (q + prefetch_distance < uses.size())
@@ -221,9 +216,7 @@ solver::CsrMatrix assemble_normal_matrix(const SystemRows& rows, std::size_t unk
                 if (e.unknown != mesh::no_index) n.add(e.unknown, use.coefficient * e.coefficient);
             }
         }
-        n.finish_row();
-    }
-    return n.take();
+    });
 }
 
 }  // namespace dfm::deform

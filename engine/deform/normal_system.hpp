@@ -88,6 +88,24 @@ private:
     std::vector<std::uint32_t> sorted_;   // this row's, by column
 };
 
+// N row after row: row i starts from diagonal[i], and `terms(i, rows)`
+// adds its other terms (rows.add) in their order. An empty matrix once
+// `stop` (optional) is set.
+template <class Terms>
+solver::CsrMatrix gather_normal_rows(std::span<const double> diagonal,
+                                     const std::atomic<bool>* stop, Terms&& terms) {
+    NormalRows rows(diagonal.size());
+    for (std::uint32_t i = 0; i < diagonal.size(); ++i) {
+        // A few hundred rows take well under a millisecond.
+        if (stop != nullptr && i % 256 == 0 && stop->load(std::memory_order_relaxed))
+            return solver::CsrMatrix{};
+        rows.add(i, diagonal[i]);
+        terms(i, rows);
+        rows.finish_row();
+    }
+    return rows.take();
+}
+
 // Assembles N with sorted, duplicate-free rows. `soft_handles` are the
 // unknowns tied to targets with weight `handle_weight`. ε is
 // `relative_epsilon` times the mean diagonal of AᵀA + w² H, returned in

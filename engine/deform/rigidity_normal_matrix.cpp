@@ -60,12 +60,7 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
         }
     }
 
-    NormalRows n(unknown_count);
-    for (std::uint32_t i = 0; i < unknown_count; ++i) {
-        // A few hundred rows take well under a millisecond.
-        if (stop != nullptr && i % 256 == 0 && stop->load(std::memory_order_relaxed))
-            return solver::CsrMatrix{};
-        n.add(i, diagonal[i]);
+    return gather_normal_rows(diagonal, stop, [&](std::uint32_t i, NormalRows& n) {
         for (std::uint32_t q = offsets[i]; q < offsets[i + 1]; ++q) {
             if (q + prefetch_distance < uses.size()) {
                 const RigidityStencil& ahead = stencils_[uses[q + prefetch_distance].stencil];
@@ -101,9 +96,7 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
                 if (s.unknown[d] != mesh::no_index) n.add(s.unknown[d], slot == d ? w2 : -w2);
             }
         }
-        n.finish_row();
-    }
-    return n.take();
+    });
 }
 
 }  // namespace dfm::deform

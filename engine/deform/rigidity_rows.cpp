@@ -61,7 +61,6 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
     stencils_.clear();
     stencils_.reserve(dual_rows);
     fixed_.clear();
-    rigidity_rows_ = 0;
     for (std::size_t r = 0; r < dual_rows; ++r) {
         RigidityStencil s;
         const std::uint32_t f = rows.faces[r];
@@ -122,7 +121,6 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
                 if (length > 0.0) add_pair(a, e, relative_edge_weight * mean_edge / length);
             }
         }
-        rigidity_rows_ += s.pair_count;
         for (std::size_t i = 0; i < used; ++i) {
             if (s.unknown[i] == mesh::no_index) continue;
             for (std::size_t j = 0; j < used; ++j) {
@@ -150,6 +148,12 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
     fixed_.resize(merged);
     kept_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
     fitted_ = kept_;
+}
+
+std::size_t RotationFrames::rigidity_rows() const {
+    std::size_t count = 0;
+    for (const RigidityStencil& s : stencils_) count += s.pair_count;
+    return count;
 }
 
 namespace {

@@ -83,7 +83,7 @@ public:
     void keep_fit() { kept_.swap(fitted_); }
 
     std::size_t dual_rows() const { return stencils_.size(); }
-    std::size_t rigidity_rows() const { return rigidity_rows_; }
+    std::size_t rigidity_rows() const;
     std::size_t memory_bytes() const {
         return capacity_bytes(stencils_, fixed_, kept_, fitted_, deferred_);
     }
@@ -98,7 +98,6 @@ private:
     };
 
     std::vector<RigidityStencil> stencils_;  // per dual row
-    std::size_t rigidity_rows_ = 0;
     std::vector<FixedCoupling> fixed_;
     std::vector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
     std::vector<glm::dquat> fitted_;  // per dual row: the last fit
