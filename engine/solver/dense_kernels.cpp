@@ -3,14 +3,17 @@
 #include <algorithm>
 #include <cmath>
 
-// Every kernel is also compiled for AVX2 and picked at run time where the
-// processor has it: wider vectors, the same multiplications and additions in
-// the same order (no fused multiply–add), so the same bits. The choice is an
-// ordinary branch rather than an ifunc, which sanitizers' start-up code does
-// not survive.
+// Every kernel is also compiled for AVX2, and the product for AVX-512, and
+// picked at run time where the processor has them: wider vectors, the same
+// multiplications and additions in the same order (no fused multiply–add:
+// the library builds with -ffp-contract=off), so the same bits. The choice is
+// an ordinary branch rather than an ifunc, which sanitizers' start-up code
+// does not survive.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
 #define DFM_HAS_AVX2_KERNELS 1
 #define DFM_TARGET_AVX2 __attribute__((target("avx2")))
+#define DFM_TARGET_AVX512 __attribute__((target("avx512f")))
 #else
 #define DFM_HAS_AVX2_KERNELS 0
 #endif
@@ -56,13 +59,27 @@ template <bool subtract, std::size_t R, std::size_t C>
     if constexpr (R > 1) sweep_rows<subtract, R / 2, C>(i0, ie, k, a, lda, b, ldb, c, ldc);
 }
 
-// Tiles of R rows: as many independent sums as the vector registers hold,
-// which is what keeps the adders busy.
+// The sweeps of `tile`s of R rows, then halving tiles.
 template <bool subtract, std::size_t R>
+struct TileRows {
+    static constexpr std::size_t rows = R;
+    template <std::size_t C>
+    [[gnu::always_inline]] static void sweep(std::size_t i0, std::size_t ie, std::size_t k,
+                                             const double* a, std::size_t lda, const double* b,
+                                             std::size_t ldb, double* c, std::size_t ldc) {
+        sweep_rows<subtract, R, C>(i0, ie, k, a, lda, b, ldb, c, ldc);
+    }
+};
+
+// Blocks of rows, each swept by 4-column strips of B and the rest: Rows's
+// tiles of Rows::rows rows hold as many independent sums as the vector
+// registers do, which is what keeps the adders busy.
+template <class Rows>
 [[gnu::always_inline]] inline void product_nt(std::size_t m, std::size_t n, std::size_t k,
                                               const double* a, std::size_t lda, const double* b,
                                               std::size_t ldb, double* c, std::size_t ldc,
                                               bool lower, std::size_t row_offset) {
+    constexpr std::size_t R = Rows::rows;
     const std::size_t n4 = n - n % 4;
     // First row whose tile starting at column j0 reaches the needed
     // triangle: global rows i0 + row_offset + R − 1 ≥ j0.
@@ -74,17 +91,16 @@ template <bool subtract, std::size_t R>
         const std::size_t ie = std::min(m, ib + row_block);
         for (std::size_t j0 = 0; j0 < n4; j0 += 4) {
             const std::size_t i0 = first_row(ib, j0);
-            if (i0 < ie)
-                sweep_rows<subtract, R, 4>(i0, ie, k, a, lda, b + j0, ldb, c + j0 * ldc, ldc);
+            if (i0 < ie) Rows::template sweep<4>(i0, ie, k, a, lda, b + j0, ldb, c + j0 * ldc, ldc);
         }
         const std::size_t i0 = first_row(ib, n4);
         if (n4 == n || i0 >= ie) continue;
         const double* bj = b + n4;
         double* cj = c + n4 * ldc;
         switch (n - n4) {
-            case 1: sweep_rows<subtract, R, 1>(i0, ie, k, a, lda, bj, ldb, cj, ldc); break;
-            case 2: sweep_rows<subtract, R, 2>(i0, ie, k, a, lda, bj, ldb, cj, ldc); break;
-            default: sweep_rows<subtract, R, 3>(i0, ie, k, a, lda, bj, ldb, cj, ldc); break;
+            case 1: Rows::template sweep<1>(i0, ie, k, a, lda, bj, ldb, cj, ldc); break;
+            case 2: Rows::template sweep<2>(i0, ie, k, a, lda, bj, ldb, cj, ldc); break;
+            default: Rows::template sweep<3>(i0, ie, k, a, lda, bj, ldb, cj, ldc); break;
         }
     }
 }
@@ -98,13 +114,79 @@ bool avx2_available() {
     return available;
 }
 
+bool avx512_available() {
+    static const bool available = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx512f") != 0;
+    }();
+    return available;
+}
+
 // Sixteen registers of four doubles: eight accumulators of an 8×4 tile.
 template <bool subtract>
 DFM_TARGET_AVX2 void product_nt_avx2(std::size_t m, std::size_t n, std::size_t k, const double* a,
                                      std::size_t lda, const double* b, std::size_t ldb, double* c,
                                      std::size_t ldc, bool lower, std::size_t row_offset) {
-    product_nt<subtract, 8>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+    product_nt<TileRows<subtract, 8>>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
 }
+
+// A tile of V vectors of eight rows by C columns, the last vector's rows
+// masked (so a block's last rows take one tile, whatever their count); each
+// entry's sum as in `tile`. Written with intrinsics: GCC's own vectorization
+// of a 16-row `tile` goes through permutations.
+template <bool subtract, std::size_t V, std::size_t C>
+[[gnu::always_inline]] DFM_TARGET_AVX512 inline void tile_avx512(std::size_t k, const double* a,
+                                                                 std::size_t lda, const double* b,
+                                                                 std::size_t ldb, double* c,
+                                                                 std::size_t ldc, __mmask8 last) {
+    __m512d acc[C][V];
+    for (std::size_t jj = 0; jj < C; ++jj)
+        for (std::size_t v = 0; v < V; ++v) acc[jj][v] = _mm512_setzero_pd();
+    for (std::size_t t = 0; t < k; ++t) {
+        const double* at = a + t * lda;
+        const double* bt = b + t * ldb;
+        __m512d av[V];
+        for (std::size_t v = 0; v + 1 < V; ++v) av[v] = _mm512_loadu_pd(at + 8 * v);
+        av[V - 1] = _mm512_maskz_loadu_pd(last, at + 8 * (V - 1));
+        for (std::size_t jj = 0; jj < C; ++jj) {
+            const __m512d bj = _mm512_set1_pd(bt[jj]);
+            for (std::size_t v = 0; v < V; ++v)
+                acc[jj][v] = _mm512_add_pd(acc[jj][v], _mm512_mul_pd(av[v], bj));
+        }
+    }
+    for (std::size_t jj = 0; jj < C; ++jj) {
+        double* cj = c + jj * ldc;
+        for (std::size_t v = 0; v < V; ++v) {
+            const __mmask8 rows = v + 1 < V ? __mmask8(0xff) : last;
+            __m512d out = acc[jj][v];
+            if constexpr (subtract)
+                out = _mm512_sub_pd(_mm512_maskz_loadu_pd(rows, cj + 8 * v), out);
+            _mm512_mask_storeu_pd(cj + 8 * v, rows, out);
+        }
+    }
+}
+
+// 16-row tiles, then one tile of the rest. A sweep is a call, not inlined:
+// product_nt, which calls it, is compiled for the plain target.
+template <bool subtract>
+struct Avx512Rows {
+    static constexpr std::size_t rows = 16;
+    template <std::size_t C>
+    DFM_TARGET_AVX512 static void sweep(std::size_t i0, std::size_t ie, std::size_t k,
+                                        const double* a, std::size_t lda, const double* b,
+                                        std::size_t ldb, double* c, std::size_t ldc) {
+        for (; i0 + 16 <= ie; i0 += 16)
+            tile_avx512<subtract, 2, C>(k, a + i0, lda, b, ldb, c + i0, ldc, 0xff);
+        const std::size_t rest = ie - i0;
+        if (rest == 0) return;
+        const auto mask = static_cast<__mmask8>((1u << ((rest - 1) % 8 + 1)) - 1u);
+        if (rest > 8) {
+            tile_avx512<subtract, 2, C>(k, a + i0, lda, b, ldb, c + i0, ldc, mask);
+        } else {
+            tile_avx512<subtract, 1, C>(k, a + i0, lda, b, ldb, c + i0, ldc, mask);
+        }
+    }
+};
 #endif
 
 [[gnu::always_inline]] inline std::size_t factor_diagonal_body(std::size_t w, double* p,
@@ -175,11 +257,33 @@ DFM_TARGET_AVX2 void solve_right_lower_transposed_avx2(std::size_t m, std::size_
 
 }  // namespace
 
-void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, std::size_t lda,
-                 const double* b, std::size_t ldb, double* c, std::size_t ldc, bool subtract,
-                 bool lower, std::size_t row_offset) {
+bool kernel_set_available(KernelSet set) {
+    switch (set) {
+        case KernelSet::plain: return true;
 #if DFM_HAS_AVX2_KERNELS
-    if (avx2_available()) {
+        case KernelSet::avx2: return avx2_available();
+        case KernelSet::avx512: return avx512_available();
+#else
+        case KernelSet::avx2:
+        case KernelSet::avx512: return false;
+#endif
+    }
+    return false;
+}
+
+void multiply_nt(KernelSet set, std::size_t m, std::size_t n, std::size_t k, const double* a,
+                 std::size_t lda, const double* b, std::size_t ldb, double* c, std::size_t ldc,
+                 bool subtract, bool lower, std::size_t row_offset) {
+#if DFM_HAS_AVX2_KERNELS
+    if (set == KernelSet::avx512) {
+        if (subtract) {
+            product_nt<Avx512Rows<true>>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+        } else {
+            product_nt<Avx512Rows<false>>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+        }
+        return;
+    }
+    if (set == KernelSet::avx2) {
         if (subtract) {
             product_nt_avx2<true>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
         } else {
@@ -189,10 +293,19 @@ void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, s
     }
 #endif
     if (subtract) {
-        product_nt<true, 4>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+        product_nt<TileRows<true, 4>>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
     } else {
-        product_nt<false, 4>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+        product_nt<TileRows<false, 4>>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
     }
+}
+
+void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, std::size_t lda,
+                 const double* b, std::size_t ldb, double* c, std::size_t ldc, bool subtract,
+                 bool lower, std::size_t row_offset) {
+    static const KernelSet widest = kernel_set_available(KernelSet::avx512) ? KernelSet::avx512
+                                    : kernel_set_available(KernelSet::avx2) ? KernelSet::avx2
+                                                                            : KernelSet::plain;
+    multiply_nt(widest, m, n, k, a, lda, b, ldb, c, ldc, subtract, lower, row_offset);
 }
 
 std::size_t factor_diagonal(std::size_t w, double* p, std::size_t ld) {

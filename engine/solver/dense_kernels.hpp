@@ -18,6 +18,15 @@ void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, s
                  const double* b, std::size_t ldb, double* c, std::size_t ldc, bool subtract,
                  bool lower, std::size_t row_offset = 0);
 
+// The instruction sets multiply_nt is compiled for; it runs the widest the
+// processor has. Each gives the same bits (the tests compare them).
+enum class KernelSet { plain, avx2, avx512 };
+bool kernel_set_available(KernelSet set);
+// multiply_nt on the given set, which must be available.
+void multiply_nt(KernelSet set, std::size_t m, std::size_t n, std::size_t k, const double* a,
+                 std::size_t lda, const double* b, std::size_t ldb, double* c, std::size_t ldc,
+                 bool subtract, bool lower, std::size_t row_offset = 0);
+
 // Factors the w×w symmetric block P (lower triangle read) in place,
 // P = L Lᵀ. Returns w on success, else the column whose pivot was not
 // positive (or not finite).

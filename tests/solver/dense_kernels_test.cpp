@@ -1,0 +1,104 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "solver/dense_kernels.hpp"
+
+using namespace dfm::solver;
+
+namespace {
+
+// A's rows in m, B's in n, both k wide, C m×n, each with its own leading
+// dimension and values of every magnitude the factor meets.
+struct Product {
+    std::size_t m, n, k, lda, ldb, ldc;
+    std::vector<double> a, b, c;
+};
+
+Product random_product(std::mt19937& rng, std::size_t m, std::size_t n, std::size_t k) {
+    std::uniform_real_distribution<double> value(-1.0, 1.0);
+    std::uniform_int_distribution<int> exponent(-30, 30);
+    Product p{m, n, k, m + 3, n + 1, m + 5, {}, {}, {}};
+    const auto fill = [&](std::vector<double>& v, std::size_t size) {
+        v.resize(size);
+        for (double& x : v) x = std::ldexp(value(rng), exponent(rng));
+    };
+    fill(p.a, p.lda * k);
+    fill(p.b, p.ldb * k);
+    fill(p.c, p.ldc * n);
+    return p;
+}
+
+std::vector<double> run(dense::KernelSet set, const Product& p, bool subtract, bool lower,
+                        std::size_t offset) {
+    std::vector<double> c = p.c;
+    dense::multiply_nt(set, p.m, p.n, p.k, p.a.data(), p.lda, p.b.data(), p.ldb, c.data(), p.ldc,
+                       subtract, lower, offset);
+    return c;
+}
+
+bool same_bits(const std::vector<double>& x, const std::vector<double>& y) {
+    return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0;
+}
+
+// The entries a `lower` product must compute: global row i + offset ≥ j.
+bool same_needed_bits(const Product& p, std::size_t offset, const std::vector<double>& x,
+                      const std::vector<double>& y) {
+    for (std::size_t j = 0; j < p.n; ++j)
+        for (std::size_t i = 0; i < p.m; ++i) {
+            if (i + offset < j) continue;
+            const std::size_t at = i + j * p.ldc;
+            if (std::memcmp(&x[at], &y[at], sizeof(double)) != 0) return false;
+        }
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("solver: the dense product gives the same bits on every instruction set") {
+    const dense::KernelSet wide[] = {dense::KernelSet::avx2, dense::KernelSet::avx512};
+    std::mt19937 rng(12);
+    std::uniform_int_distribution<std::size_t> size(1, 150);
+    std::size_t compared = 0;
+    for (int trial = 0; trial < 60; ++trial) {
+        // Sizes past the row block (96) and the tiles' tails of every length.
+        const Product p = random_product(rng, size(rng), size(rng) % 40 + 1, size(rng) % 70 + 1);
+        const std::size_t offset = size(rng) % 20;
+        for (const bool subtract : {false, true}) {
+            const std::vector<double> full = run(dense::KernelSet::plain, p, subtract, false, 0);
+            const std::vector<double> lower =
+                run(dense::KernelSet::plain, p, subtract, true, offset);
+            for (dense::KernelSet set : wide) {
+                if (!dense::kernel_set_available(set)) continue;
+                CHECK(same_bits(run(set, p, subtract, false, 0), full));
+                CHECK(same_needed_bits(p, offset, run(set, p, subtract, true, offset), lower));
+                ++compared;
+            }
+        }
+    }
+    MESSAGE("compared ", compared, " products with the plain kernel's");
+}
+
+TEST_CASE("solver: the dense product's entries are the sums in ascending order") {
+    std::mt19937 rng(7);
+    const Product p = random_product(rng, 37, 11, 23);
+    for (dense::KernelSet set :
+         {dense::KernelSet::plain, dense::KernelSet::avx2, dense::KernelSet::avx512}) {
+        if (!dense::kernel_set_available(set)) continue;
+        const std::vector<double> c = run(set, p, true, false, 0);
+        for (std::size_t j = 0; j < p.n; ++j)
+            for (std::size_t i = 0; i < p.m; ++i) {
+                double sum = 0.0;
+                for (std::size_t t = 0; t < p.k; ++t) {
+                    const double product = p.a[i + t * p.lda] * p.b[j + t * p.ldb];
+                    sum += product;
+                }
+                const double expected = p.c[i + j * p.ldc] - sum;
+                CHECK(std::memcmp(&c[i + j * p.ldc], &expected, sizeof(double)) == 0);
+            }
+    }
+}
