@@ -7,6 +7,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "core/huge_page_allocator.hpp"
 #include "core/memory_bytes.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
@@ -97,7 +98,7 @@ private:
         double coefficient;
     };
 
-    std::vector<RigidityStencil> stencils_;  // per dual row
+    HugePageVector<RigidityStencil> stencils_;  // per dual row
     std::vector<FixedCoupling> fixed_;
     std::vector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
     std::vector<glm::dquat> fitted_;  // per dual row: the last fit

@@ -251,7 +251,7 @@ Status stopped_status() {
 // the rows below each diagonal block row by row (supernode_kernels.hpp), so
 // that both stream L in order instead of striding across its columns. Once
 // every supernode is factored, each block is rearranged in place.
-void arrange_for_solves(const CholeskySymbolic& sym, std::vector<double>& values) {
+void arrange_for_solves(const CholeskySymbolic& sym, std::span<double> values) {
     std::vector<double> block;
     for (std::size_t s = 0; s < sym.supernode_count(); ++s) {
         const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
