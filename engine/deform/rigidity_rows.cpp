@@ -45,8 +45,6 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
                            const SystemRows& rows) {
     const mesh::Mesh& mesh = model.mesh;
     const std::size_t dual_rows = rows.size();
-    std::vector<glm::dvec3> rest(mesh.face_count());
-    dual::compute_centroids(mesh, mesh.positions, rest);
     // Edge rows are relative: a needle's short edge gets the weight of its
     // shortness. Lengths alone would let needles (the camel's head has edges
     // 70 times shorter than their neighbours) turn over at no cost.
@@ -65,7 +63,7 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
         RigidityStencil s;
         const std::uint32_t f = rows.faces[r];
         const mesh::Triangle& t = mesh.triangles[f];
-        s.rest_dual = dual::dual_coordinate(model.dual, rest, f);
+        s.rest_dual = dual::dual_coordinate_at(mesh, model.dual, mesh.positions, f);
         s.rest_dual2 = glm::dot(s.rest_dual, s.rest_dual);
         // The coefficients b_ki of every row of this dual row, by slot.
         std::array<std::array<double, slots>, pairs + 1> b{};

@@ -6,10 +6,8 @@ namespace dfm::dual {
 
 void compute_centroids(const mesh::Mesh& mesh, std::span<const glm::dvec3> positions,
                        std::span<glm::dvec3> centroids) {
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        const mesh::Triangle& t = mesh.triangles[f];
-        centroids[f] = (positions[t[0]] + positions[t[1]] + positions[t[2]]) / 3.0;
-    }
+    for (std::size_t f = 0; f < mesh.face_count(); ++f)
+        centroids[f] = centroid(mesh, positions, static_cast<std::uint32_t>(f));
 }
 
 namespace {
@@ -102,6 +100,14 @@ glm::dvec3 dual_coordinate(const DualLaplacian& dual, std::span<const glm::dvec3
     const glm::dvec3& w = dual.weights[face];
     return w[0] * centroids[n[0]] + w[1] * centroids[n[1]] + w[2] * centroids[n[2]] -
            centroids[face];
+}
+
+glm::dvec3 dual_coordinate_at(const mesh::Mesh& mesh, const DualLaplacian& dual,
+                              std::span<const glm::dvec3> positions, std::uint32_t face) {
+    const auto& n = dual.neighbors[face];
+    const glm::dvec3& w = dual.weights[face];
+    return w[0] * centroid(mesh, positions, n[0]) + w[1] * centroid(mesh, positions, n[1]) +
+           w[2] * centroid(mesh, positions, n[2]) - centroid(mesh, positions, face);
 }
 
 }  // namespace dfm::dual

@@ -37,6 +37,13 @@ inline constexpr double degenerate_ring_ratio = 1e-12;
 
 DualLaplacian build_dual_laplacian(const mesh::Mesh& mesh, const mesh::EdgeTopology& topology);
 
+// The dual vertex of `face`: its centroid for the given positions.
+inline glm::dvec3 centroid(const mesh::Mesh& mesh, std::span<const glm::dvec3> positions,
+                           std::uint32_t face) {
+    const mesh::Triangle& t = mesh.triangles[face];
+    return (positions[t[0]] + positions[t[1]] + positions[t[2]]) / 3.0;
+}
+
 void compute_centroids(const mesh::Mesh& mesh, std::span<const glm::dvec3> positions,
                        std::span<glm::dvec3> centroids);
 
@@ -58,5 +65,11 @@ glm::dvec3 ring_normal(const DualLaplacian& dual, std::span<const glm::dvec3> ce
 // sum_j w_fj c_fj - c_f.
 glm::dvec3 dual_coordinate(const DualLaplacian& dual, std::span<const glm::dvec3> centroids,
                            std::uint32_t face);
+
+// The same from the vertices' positions, with only the four centroids it
+// needs (the same bits as dual_coordinate over compute_centroids): an edit
+// of a few faces then costs nothing per face of the whole mesh.
+glm::dvec3 dual_coordinate_at(const mesh::Mesh& mesh, const DualLaplacian& dual,
+                              std::span<const glm::dvec3> positions, std::uint32_t face);
 
 }  // namespace dfm::dual
