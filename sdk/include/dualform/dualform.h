@@ -145,7 +145,8 @@ typedef struct dfm_context dfm_context;
  * record, and each rest-pose model record (not its arrays). Every array
  * (positions, triangles, adjacency, ROIs, the solver's rows and factor,
  * frames, the pick scene) comes from the C++ global allocator (operator
- * new, which a host may replace); its failures are reported the same way.
+ * new, plain and aligned, which a host may replace); its failures are
+ * reported the same way.
  * alloc returns memory aligned to `alignment` (a power of two up to 64) or
  * NULL on failure, which the call reports as DFM_ERROR_OUT_OF_MEMORY. free
  * receives the size that was allocated. Both hooks may be called from any
