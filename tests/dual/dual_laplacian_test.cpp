@@ -1,6 +1,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -99,4 +101,21 @@ TEST_CASE("dual: a 1-ring with collinear centroids has no row and no NaN") {
     std::vector<glm::dvec3> c(m.face_count());
     dual::compute_centroids(m, m.positions, c);
     CHECK(dual::ring_normal(d, c, 0) == glm::dvec3(0.0));
+}
+
+TEST_CASE("dual: the coordinate from four centroids has the bits of the one over all centroids") {
+    const mesh::Mesh m = bumpy_sphere();
+    const dual::DualLaplacian d = dual::build_dual_laplacian(m, mesh::build_edge_topology(m));
+    std::vector<glm::dvec3> moved = m.positions;
+    for (glm::dvec3& p : moved) p += glm::dvec3(0.3 * p.y * p.y, -0.2 * p.x, 0.1 * p.z * p.x);
+    const std::vector<glm::dvec3>* const poses[] = {&m.positions, &moved};
+    for (const std::vector<glm::dvec3>* positions : poses) {
+        std::vector<glm::dvec3> centroids(m.face_count());
+        dual::compute_centroids(m, *positions, centroids);
+        for (std::uint32_t f = 0; f < m.face_count(); ++f) {
+            const glm::dvec3 all = dual::dual_coordinate(d, centroids, f);
+            const glm::dvec3 four = dual::dual_coordinate_at(m, d, *positions, f);
+            REQUIRE(std::memcmp(&all, &four, sizeof all) == 0);
+        }
+    }
 }
