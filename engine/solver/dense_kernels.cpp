@@ -105,21 +105,24 @@ template <class Rows>
     }
 }
 
+// The widest set the processor runs, asked once.
+KernelSet widest_set() {
 #if DFM_HAS_AVX2_KERNELS
-bool avx2_available() {
-    static const bool available = [] {
+    static const KernelSet widest = [] {
         __builtin_cpu_init();
-        return __builtin_cpu_supports("avx2") != 0;
+        if (__builtin_cpu_supports("avx512f")) return KernelSet::avx512;
+        if (__builtin_cpu_supports("avx2")) return KernelSet::avx2;
+        return KernelSet::plain;
     }();
-    return available;
+    return widest;
+#else
+    return KernelSet::plain;
+#endif
 }
 
-bool avx512_available() {
-    static const bool available = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("avx512f") != 0;
-    }();
-    return available;
+#if DFM_HAS_AVX2_KERNELS
+bool avx2_available() {
+    return widest_set() >= KernelSet::avx2;
 }
 
 // Sixteen registers of four doubles: eight accumulators of an 8×4 tile.
@@ -258,17 +261,7 @@ DFM_TARGET_AVX2 void solve_right_lower_transposed_avx2(std::size_t m, std::size_
 }  // namespace
 
 bool kernel_set_available(KernelSet set) {
-    switch (set) {
-        case KernelSet::plain: return true;
-#if DFM_HAS_AVX2_KERNELS
-        case KernelSet::avx2: return avx2_available();
-        case KernelSet::avx512: return avx512_available();
-#else
-        case KernelSet::avx2:
-        case KernelSet::avx512: return false;
-#endif
-    }
-    return false;
+    return set <= widest_set();
 }
 
 void multiply_nt(KernelSet set, std::size_t m, std::size_t n, std::size_t k, const double* a,
@@ -302,10 +295,7 @@ void multiply_nt(KernelSet set, std::size_t m, std::size_t n, std::size_t k, con
 void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, std::size_t lda,
                  const double* b, std::size_t ldb, double* c, std::size_t ldc, bool subtract,
                  bool lower, std::size_t row_offset) {
-    static const KernelSet widest = kernel_set_available(KernelSet::avx512) ? KernelSet::avx512
-                                    : kernel_set_available(KernelSet::avx2) ? KernelSet::avx2
-                                                                            : KernelSet::plain;
-    multiply_nt(widest, m, n, k, a, lda, b, ldb, c, ldc, subtract, lower, row_offset);
+    multiply_nt(widest_set(), m, n, k, a, lda, b, ldb, c, ldc, subtract, lower, row_offset);
 }
 
 std::size_t factor_diagonal(std::size_t w, double* p, std::size_t ld) {

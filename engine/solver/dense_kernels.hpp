@@ -19,7 +19,8 @@ void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, s
                  bool lower, std::size_t row_offset = 0);
 
 // The instruction sets multiply_nt is compiled for; it runs the widest the
-// processor has. Each gives the same bits (the tests compare them).
+// processor has. Each gives the same bits (the tests compare them). Ordered:
+// a processor that runs one set runs every set before it.
 enum class KernelSet { plain, avx2, avx512 };
 bool kernel_set_available(KernelSet set);
 // multiply_nt on the given set, which must be available.
