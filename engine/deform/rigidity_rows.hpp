@@ -7,8 +7,8 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "core/huge_page_allocator.hpp"
 #include "core/memory_bytes.hpp"
+#include "core/pooled_allocator.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
 #include "solver/thread_pool.hpp"
@@ -98,11 +98,11 @@ private:
         double coefficient;
     };
 
-    HugePageVector<RigidityStencil> stencils_;  // per dual row
+    PooledVector<RigidityStencil> stencils_;  // per dual row
     std::vector<FixedCoupling> fixed_;
-    std::vector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
-    std::vector<glm::dquat> fitted_;  // per dual row: the last fit
-    std::vector<double> deferred_;    // the second half's shares in a two-thread fit
+    PooledVector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
+    PooledVector<glm::dquat> fitted_;  // per dual row: the last fit
+    std::vector<double> deferred_;     // the second half's shares in a two-thread fit
 };
 
 }  // namespace dfm::deform

@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-#include "core/huge_page_allocator.hpp"
+#include "core/pooled_allocator.hpp"
 #include "core/status.hpp"
 #include "solver/cholesky_schedule.hpp"
 #include "solver/cholesky_symbolic.hpp"
@@ -94,7 +94,7 @@ public:
 private:
     CholeskySymbolic symbolic_;
     CholeskySchedule schedule_;  // for the thread count of the last factorize
-    HugePageVector<double> values_;
+    PooledVector<double> values_;
     std::vector<CholeskyScratch> scratch_;
     CholeskyTimes times_;
     const std::atomic<bool>* stop_ = nullptr;

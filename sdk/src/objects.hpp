@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/buffer_pool.hpp"
 #include "deform/async_session.hpp"
 #include "deform/mesh_model.hpp"
 #include "dualform/dualform.h"
@@ -34,6 +35,9 @@ struct ContextState {
     std::uint32_t worker_count = 1;
     std::uint32_t pick_thread_count = 0;  // Embree's device; 0: Embree's default
     std::string models_directory;         // empty: model:NAME is not found
+    // Its sessions' large buffers are kept for the next set-up while any
+    // object of the context lives (buffer_pool.hpp).
+    buffer_pool::Hold keeps_buffers;
 
     void* allocate(std::size_t size, std::size_t alignment) const {
         return host_allocate(allocator, size, alignment);
