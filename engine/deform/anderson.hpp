@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/memory_bytes.hpp"
+#include "core/pooled_allocator.hpp"
 
 namespace dfm::deform {
 
@@ -45,11 +46,11 @@ private:
     std::size_t count_ = 0;  // stored differences, at most memory_
     std::size_t next_slot_ = 0;
     bool has_previous_ = false;
-    std::vector<double> previous_f_;
-    std::vector<double> previous_g_;
-    std::vector<double> delta_f_;  // memory_ columns of size_
-    std::vector<double> delta_g_;
-    std::vector<double> f_;
+    PooledVector<double> previous_f_;
+    PooledVector<double> previous_g_;
+    PooledVector<double> delta_f_;  // memory_ columns of size_
+    PooledVector<double> delta_g_;
+    PooledVector<double> f_;
     std::vector<double> products_;  // ΔFᵀΔF over the ring's slots, memory_ × memory_
     std::vector<double> gram_;      // the normal equations of one step, count_ × count_
     std::vector<double> gamma_;

@@ -166,7 +166,7 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         s->setup_.symbolic_ms = factor_times.symbolic_ms;
         s->setup_.numeric_ms = factor_times.numeric_ms;
 
-        s->positions_ = model.mesh.positions;
+        s->positions_.assign(model.mesh.positions.begin(), model.mesh.positions.end());
         s->targets_.resize(s->handle_vertices_.size());
         for (std::size_t h = 0; h < s->handle_vertices_.size(); ++h) {
             s->targets_[h] = s->positions_[s->handle_vertices_[h]];

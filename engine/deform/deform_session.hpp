@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "core/pooled_allocator.hpp"
 #include "core/status.hpp"
 #include "deform/anderson.hpp"
 #include "deform/frame_prediction.hpp"
@@ -190,19 +191,19 @@ private:
     double epsilon_ = 0.0;
     std::vector<std::uint32_t> handle_vertices_;
     std::vector<std::uint32_t> soft_handles_;  // unknown of each handle vertex (soft mode)
-    std::vector<glm::dvec3> targets_;
-    std::vector<glm::dvec3> positions_;
-    std::vector<glm::dvec3> centroids_;
-    std::vector<glm::dvec3> dual_targets_;  // l_r per row
-    std::vector<double> rhs_;               // 3 interleaved columns
-    std::vector<double> x_;                 // the linear solve's solution: G(current)
-    std::vector<double> current_;           // the iterate the dual targets come from
-    std::vector<double> next_;
+    PooledVector<glm::dvec3> targets_;
+    PooledVector<glm::dvec3> positions_;
+    PooledVector<glm::dvec3> centroids_;
+    PooledVector<glm::dvec3> dual_targets_;  // l_r per row
+    PooledVector<double> rhs_;               // 3 interleaved columns
+    PooledVector<double> x_;                 // the linear solve's solution: G(current)
+    PooledVector<double> current_;           // the iterate the dual targets come from
+    PooledVector<double> next_;
     AndersonAccelerator anderson_;
     FramePredictor predictor_;
-    RotationFrames frames_;             // fitted_rotations only
-    std::vector<double> height_scale_;  // per dual row, with scale_heights
-    bool pinned_ = true;                // the ROI has a fixed boundary
+    RotationFrames frames_;              // fitted_rotations only
+    PooledVector<double> height_scale_;  // per dual row, with scale_heights
+    bool pinned_ = true;                 // the ROI has a fixed boundary
     SetupReport setup_;
 };
 

@@ -7,6 +7,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/memory_bytes.hpp"
+#include "core/pooled_allocator.hpp"
 
 namespace dfm::deform {
 
@@ -41,7 +42,7 @@ public:
 
 private:
     std::size_t frames_ = 0;  // recorded since the last forget, at most 2 used
-    std::vector<double> last_, before_;
+    PooledVector<double> last_, before_;
     std::vector<glm::dvec3> last_targets_, before_targets_;
 };
 

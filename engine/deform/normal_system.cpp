@@ -1,4 +1,5 @@
 #include "deform/normal_system.hpp"
+#include "core/pooled_allocator.hpp"
 
 #include <algorithm>
 #include <numeric>
@@ -104,7 +105,7 @@ solver::CsrMatrix normal_pattern(const SystemRows& rows, std::size_t unknown_cou
         if (e.unknown != mesh::no_index) ++offsets[e.unknown + 1];
     }
     std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
-    std::vector<std::uint32_t> row_of(offsets.back());
+    PooledVector<std::uint32_t> row_of(offsets.back());
     {
         std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
         for (std::uint32_t r = 0; r < rows.size(); ++r) {
@@ -185,7 +186,7 @@ solver::CsrMatrix assemble_normal_matrix(const SystemRows& rows, std::size_t unk
         if (e.unknown != mesh::no_index) ++offsets[e.unknown + 1];
     }
     std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
-    std::vector<RowUse> uses(offsets.back());
+    PooledVector<RowUse> uses(offsets.back());
     std::vector<double> squares(unknown_count, 0.0);
     {
         std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);

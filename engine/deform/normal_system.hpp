@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/memory_bytes.hpp"
+#include "core/pooled_allocator.hpp"
 #include "deform/mesh_model.hpp"
 #include "solver/csr_matrix.hpp"
 
@@ -28,11 +29,11 @@ struct RowEntry {
 };
 
 struct SystemRows {
-    std::vector<std::uint32_t> faces;          // the face whose dual row each row is
-    std::vector<std::uint32_t> entry_offsets;  // entries of row r: [offsets[r], offsets[r + 1])
-    std::vector<RowEntry> entries;
+    PooledVector<std::uint32_t> faces;          // the face whose dual row each row is
+    PooledVector<std::uint32_t> entry_offsets;  // entries of row r: [offsets[r], offsets[r + 1])
+    PooledVector<RowEntry> entries;
     // Faces whose centroids the rows read: the rows' faces and their 1-rings.
-    std::vector<std::uint32_t> centroid_faces;
+    PooledVector<std::uint32_t> centroid_faces;
 
     std::size_t memory_bytes() const {
         return capacity_bytes(faces, entry_offsets, entries, centroid_faces);

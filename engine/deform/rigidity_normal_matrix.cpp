@@ -6,6 +6,7 @@
 // assemble_normal_matrix sums the same rows: the same bits.
 #include <numeric>
 
+#include "core/pooled_allocator.hpp"
 #include "deform/rigidity_rows.hpp"
 
 namespace dfm::deform {
@@ -49,7 +50,7 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
         std::move(squares), soft_handles, handle_weight, relative_epsilon, epsilon);
 
     std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
-    std::vector<StencilUse> uses(offsets.back());
+    PooledVector<StencilUse> uses(offsets.back());
     {
         std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
         for (std::uint32_t r = 0; r < stencils_.size(); ++r) {

@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "core/pooled_allocator.hpp"
 #include "core/status.hpp"
 #include "solver/csr_matrix.hpp"
 
@@ -37,32 +38,32 @@ struct CholeskySymbolic {
     std::vector<std::uint32_t> column_begin{0};
     std::vector<std::uint32_t> parent;  // supernodal elimination tree, no_parent at roots
     std::vector<std::size_t> row_begin{0};
-    std::vector<std::uint32_t> rows;
+    PooledVector<std::uint32_t> rows;
     std::vector<std::size_t> value_begin{0};
 
     // The updates each supernode receives, by ascending source:
     // updates[update_begin[s] .. update_begin[s + 1]).
     std::vector<std::size_t> update_begin{0};
-    std::vector<SupernodeUpdate> updates;
+    PooledVector<SupernodeUpdate> updates;
 
     // Where A's entries go: for supernode s, the entries
     // [entry_begin[s], entry_begin[s + 1]) copy A.values[entry_source[e]] to
     // the factor's value entry_target[e]. Of each pair of twins A(i, j),
     // A(j, i) one is read: the one in the row eliminated first.
-    std::vector<std::size_t> entry_begin{0};
-    std::vector<std::size_t> entry_source;
-    std::vector<std::size_t> entry_target;
+    PooledVector<std::size_t> entry_begin{0};
+    PooledVector<std::size_t> entry_source;
+    PooledVector<std::size_t> entry_target;
 
     // The last supernode of the subtree rooted at s is s; its first is
     // subtree_begin[s] (postorder makes subtrees contiguous).
     std::vector<std::uint32_t> subtree_begin;
     // Estimated work of each supernode: Σ over its columns of (rows from the
     // diagonal down)², the work that column's elimination causes.
-    std::vector<double> work;
+    PooledVector<double> work;
 
     // A's pattern, to recognise a matrix the analysis fits.
-    std::vector<std::size_t> pattern_row_offsets;
-    std::vector<std::uint32_t> pattern_col_indices;
+    PooledVector<std::size_t> pattern_row_offsets;
+    PooledVector<std::uint32_t> pattern_col_indices;
 
     std::size_t factor_nonzeros = 0;  // nonzeros of L without the amalgamation's padding
     std::size_t stored_values = 0;    // values held, padding and upper diagonal blocks included

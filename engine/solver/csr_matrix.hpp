@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/memory_bytes.hpp"
+#include "core/pooled_allocator.hpp"
 
 namespace dfm::solver {
 
@@ -15,9 +16,9 @@ namespace dfm::solver {
 struct CsrMatrix {
     std::size_t rows = 0;
     std::size_t cols = 0;
-    std::vector<std::size_t> row_offsets;
-    std::vector<std::uint32_t> col_indices;
-    std::vector<double> values;
+    PooledVector<std::size_t> row_offsets;
+    PooledVector<std::uint32_t> col_indices;
+    PooledVector<double> values;
 
     std::size_t memory_bytes() const { return capacity_bytes(row_offsets, col_indices, values); }
 

@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "core/pooled_allocator.hpp"
 #include "solver/csr_matrix.hpp"
 
 namespace dfm::solver {
@@ -19,10 +20,10 @@ inline constexpr std::uint32_t no_parent = std::numeric_limits<std::uint32_t>::m
 // entry e's position in A. Built in one pass over A, so that the symbolic
 // analysis then reads memory in order.
 struct PermutedColumns {
-    std::vector<std::size_t> begin{0};
-    std::vector<std::size_t> lower_end;
-    std::vector<std::uint32_t> rows;
-    std::vector<std::size_t> source;
+    PooledVector<std::size_t> begin{0};
+    PooledVector<std::size_t> lower_end;
+    PooledVector<std::uint32_t> rows;
+    PooledVector<std::size_t> source;
 
     std::size_t size() const { return begin.size() - 1; }
     // Rows i ≥ j of column j, the diagonal included.

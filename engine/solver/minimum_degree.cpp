@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/pooled_allocator.hpp"
 #include "solver/ordering.hpp"
 
 namespace dfm::solver {
@@ -408,20 +409,20 @@ private:
 
     Index n_;
     std::span<const std::uint32_t> constraints_;
-    std::vector<std::size_t> set_begin_;
-    std::vector<Index> set_members_;
+    PooledVector<std::size_t> set_begin_;
+    PooledVector<Index> set_members_;
     std::uint32_t current_set_ = 0;
-    std::vector<Index> pointer_;
-    std::vector<Index> length_;
-    std::vector<Index> size_;
-    std::vector<Index> next_;
-    std::vector<Index> last_;
-    std::vector<Index> head_;
-    std::vector<Index> elements_;
-    std::vector<Index> degree_;
-    std::vector<Index> stamp_;
-    std::vector<Index> hash_head_;
-    std::vector<Index> memory_;
+    PooledVector<Index> pointer_;
+    PooledVector<Index> length_;
+    PooledVector<Index> size_;
+    PooledVector<Index> next_;
+    PooledVector<Index> last_;
+    PooledVector<Index> head_;
+    PooledVector<Index> elements_;
+    PooledVector<Index> degree_;
+    PooledVector<Index> stamp_;
+    PooledVector<Index> hash_head_;
+    PooledVector<Index> memory_;
     Index used_ = 0;
     Index dense_ = 0;
     Index mark_ = 0;

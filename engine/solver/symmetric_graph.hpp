@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "core/pooled_allocator.hpp"
 #include "solver/csr_matrix.hpp"
 
 namespace dfm::solver {
@@ -13,8 +14,8 @@ namespace dfm::solver {
 // i, and i–j is an edge when A(i, j) or A(j, i) is stored, i != j. The
 // neighbours of v are neighbors[offsets[v] .. offsets[v + 1]), ascending.
 struct SymmetricGraph {
-    std::vector<std::size_t> offsets{0};
-    std::vector<std::uint32_t> neighbors;
+    PooledVector<std::size_t> offsets{0};
+    PooledVector<std::uint32_t> neighbors;
 
     std::size_t size() const { return offsets.size() - 1; }
     std::size_t degree(std::uint32_t v) const { return offsets[v + 1] - offsets[v]; }

@@ -13,10 +13,10 @@ TEST_CASE("solver: csr_from_triplets sums duplicates and sorts each row") {
     const CsrMatrix m = csr_from_triplets(3, 3, triplets);
     CHECK(m.rows == 3);
     CHECK(m.cols == 3);
-    CHECK(m.row_offsets == std::vector<std::size_t>{0, 1, 3, 4});
-    CHECK(m.col_indices == std::vector<std::uint32_t>{1, 0, 2, 2});
+    CHECK(m.row_offsets == dfm::PooledVector<std::size_t>{0, 1, 3, 4});
+    CHECK(m.col_indices == dfm::PooledVector<std::uint32_t>{1, 0, 2, 2});
     // A duplicate that cancels stays stored, as an explicit zero.
-    CHECK(m.values == std::vector<double>{0.0, 3.0, 5.5, 5.0});
+    CHECK(m.values == dfm::PooledVector<double>{0.0, 3.0, 5.5, 5.0});
     CHECK(m.nonzeros() == 4);
     CHECK(m.diagonal() == std::vector<double>{0.0, 0.0, 5.0});
 }
