@@ -70,9 +70,13 @@ struct Pool {
         return kept_count;
     }
 
-    // Frees kept blocks until `capacity` more fits under the peak of the
-    // bytes in use: the smallest block that makes room alone, or else the
-    // largest and again, so that as few bytes as may be come back fresh.
+    // Frees kept blocks until `capacity` more fits within a quarter above
+    // the peak of the bytes in use: the smallest block that makes room
+    // alone, or else the largest and again, so that as few bytes as may be
+    // come back fresh. The quarter is room for a set-up's early temporaries
+    // beside the blocks its later arrays will want: under the peak itself
+    // they are of different classes and cannot all stay, and each miss
+    // pushed out a block that a later request needed (docs/benchmarks.md).
     void make_room(std::size_t capacity) {
         const std::size_t peak = std::max(counts.peak_in_use_bytes, counts.in_use_bytes + capacity);
         const std::size_t limit = peak + peak / 4;

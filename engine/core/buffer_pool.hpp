@@ -16,11 +16,12 @@ namespace dfm::buffer_pool {
 //
 // Every block comes from the aligned `operator new`, so a host's
 // replacement of it sees them. Blocks of 32 MiB or more are aligned to
-// 2 MiB and advised as transparent huge pages. The pool never holds more
-// than the peak of the bytes in use at once: a request it cannot serve
-// first frees kept blocks until the new one fits under that peak. With no
-// holder alive (engine code outside the SDK, or after the last context
-// is destroyed) a freed block goes straight back to `operator delete`.
+// 2 MiB and advised as transparent huge pages. Kept and used blocks
+// together stay within a quarter above the peak of the bytes in use at
+// once: a request the pool cannot serve first frees kept blocks until the
+// new one fits. With no holder alive (engine code outside the SDK, or
+// after the last context is destroyed) a freed block goes straight back
+// to `operator delete`.
 
 inline constexpr std::size_t min_bytes = std::size_t{128} << 10;  // glibc's first mmap threshold
 inline constexpr std::size_t huge_bytes = std::size_t{32} << 20;
