@@ -35,8 +35,8 @@ struct ContextState {
     std::uint32_t worker_count = 1;
     std::uint32_t pick_thread_count = 0;  // Embree's device; 0: Embree's default
     std::string models_directory;         // empty: model:NAME is not found
-    // Its sessions' large buffers are kept for the next set-up while any
-    // object of the context lives (buffer_pool.hpp).
+    // While any context state lives, large buffers that sessions free are
+    // kept for the next set-up (buffer_pool.hpp, one pool per process).
     buffer_pool::Hold keeps_buffers;
 
     void* allocate(std::size_t size, std::size_t alignment) const {

@@ -146,9 +146,10 @@ typedef struct dfm_context dfm_context;
  * (positions, triangles, adjacency, ROIs, the solver's rows and factor,
  * frames, the pick scene) comes from the C++ global allocator (operator
  * new, plain and aligned, which a host may replace); its failures are
- * reported the same way. A context keeps the large arrays its destroyed
- * sessions freed for later set-ups, and frees them when it and every
- * object made from it are destroyed.
+ * reported the same way. While a context lives, the large arrays that
+ * destroyed sessions freed are kept for later set-ups (shared by the
+ * process's contexts), and freed when the last context and every object
+ * made from it are destroyed.
  * alloc returns memory aligned to `alignment` (a power of two up to 64) or
  * NULL on failure, which the call reports as DFM_ERROR_OUT_OF_MEMORY. free
  * receives the size that was allocated. Both hooks may be called from any
