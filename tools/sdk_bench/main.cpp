@@ -13,9 +13,10 @@
 //   - set_group_transform + submit, submit alone, poll, read_roi_positions
 //     (float) and read_positions (whole mesh), each timed per call while the
 //     worker is busy solving;
-//   - a 60 Hz drag of F frames (default 120): per frame, the latency from
-//     submitting new targets to the first finished frame of that generation
-//     or newer (a second thread blocks in dfm_session_wait);
+//   - a 60 Hz drag of F frames (default 120), from a frame solved at the
+//     path's first point: per frame, the latency from submitting new
+//     targets to the first finished frame of that generation or newer (a
+//     second thread blocks in dfm_session_wait);
 //   - cancel and destroy issued 5 ms into a long solve, and destroy right
 //     after create (during the set-up): time to return.
 #include <algorithm>
@@ -273,9 +274,16 @@ int main(int argc, char** argv) {
     std::mutex latency_mutex;
     std::atomic<std::uint64_t> last{0};
     std::uint64_t first_generation = 0;
+    // The handle's path; the drag starts from a frame solved at its first
+    // point, so that every latency is that of a drag step, not of a jump.
+    const auto drag_pose = [diag](int f, double m[16]) {
+        const double t = f / 60.0;
+        translation(0.05 * diag * std::sin(3.0 * t), 0.02 * diag, 0.02 * diag * std::cos(2.0 * t),
+                    m);
+    };
     {
         double m[16];
-        translation(0.0, 0.02 * diag, 0.0, m);
+        drag_pose(0, m);
         check(dfm_session_set_group_transform(s, 0, m), "set_group_transform");
         check(dfm_session_solve(s, &first_generation), "solve");
     }
@@ -305,9 +313,7 @@ int main(int argc, char** argv) {
     auto tick = Clock::now();
     for (int f = 0; f < frames; ++f) {
         double m[16];
-        const double t = f / 60.0;
-        translation(0.05 * diag * std::sin(3.0 * t), 0.02 * diag, 0.02 * diag * std::cos(2.0 * t),
-                    m);
+        drag_pose(f + 1, m);
         check(dfm_session_set_group_transform(s, 0, m), "set_group_transform");
         std::uint64_t g = 0;
         submitted[static_cast<std::size_t>(f)] = Clock::now();
