@@ -54,6 +54,12 @@ std::vector<std::uint32_t> nested_dissection_ordering(const SymmetricGraph& grap
 std::vector<std::uint32_t> minimum_degree_ordering(const SymmetricGraph& graph,
                                                    std::span<const std::uint32_t> constraints = {});
 
+// The same ordering kept in 64-bit list positions. minimum_degree_ordering
+// uses 32-bit ones, and this only for a graph whose lists do not fit them
+// (over about 1.7 billion neighbour entries); tests compare the two.
+std::vector<std::uint32_t> minimum_degree_ordering_64(
+    const SymmetricGraph& graph, std::span<const std::uint32_t> constraints = {});
+
 // The ordering of the pattern of A + Aᵀ by `method`. A must be square.
 std::vector<std::uint32_t> fill_reducing_ordering(const CsrMatrix& a, OrderingMethod method);
 
