@@ -46,11 +46,11 @@ void AndersonAccelerator::reset(std::size_t size, std::size_t memory) {
     size_ = size;
     memory_ = memory;
     restart();
-    previous_f_.assign(size, 0.0);
-    previous_g_.assign(size, 0.0);
-    delta_f_.assign(size * memory, 0.0);
-    delta_g_.assign(size * memory, 0.0);
-    f_.assign(size, 0.0);
+    previous_f_.resize(size);
+    previous_g_.resize(size);
+    delta_f_.resize(size * memory);
+    delta_g_.resize(size * memory);
+    f_.resize(size);
     gram_.assign(memory * memory, 0.0);
     products_.assign(memory * memory, 0.0);
     gamma_.assign(memory, 0.0);

@@ -46,11 +46,13 @@ private:
     std::size_t count_ = 0;  // stored differences, at most memory_
     std::size_t next_slot_ = 0;
     bool has_previous_ = false;
-    PooledVector<double> previous_f_;
-    PooledVector<double> previous_g_;
-    PooledVector<double> delta_f_;  // memory_ columns of size_
-    PooledVector<double> delta_g_;
-    PooledVector<double> f_;
+    // Each written before it is read: the history's columns below count_,
+    // the previous iterate once has_previous_ is set.
+    UnzeroedPooledVector<double> previous_f_;
+    UnzeroedPooledVector<double> previous_g_;
+    UnzeroedPooledVector<double> delta_f_;  // memory_ columns of size_
+    UnzeroedPooledVector<double> delta_g_;
+    UnzeroedPooledVector<double> f_;
     std::vector<double> products_;  // ΔFᵀΔF over the ring's slots, memory_ × memory_
     std::vector<double> gram_;      // the normal equations of one step, count_ × count_
     std::vector<double> gamma_;

@@ -94,7 +94,7 @@ public:
 private:
     CholeskySymbolic symbolic_;
     CholeskySchedule schedule_;  // for the thread count of the last factorize
-    PooledVector<double> values_;
+    UnzeroedPooledVector<double> values_;  // every block written by the factorization
     std::vector<CholeskyScratch> scratch_;
     CholeskyTimes times_;
     const std::atomic<bool>* stop_ = nullptr;
