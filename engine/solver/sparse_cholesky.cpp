@@ -251,23 +251,35 @@ Status stopped_status() {
 // the rows below each diagonal block row by row (supernode_kernels.hpp), so
 // that both stream L in order instead of striding across its columns. Once
 // every supernode is factored, each block is rearranged in place.
-void arrange_for_solves(const CholeskySymbolic& sym, std::span<double> values) {
-    std::vector<double> block;
-    for (std::size_t s = 0; s < sym.supernode_count(); ++s) {
-        const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
-        const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
-        double* l = &values[sym.value_begin[s]];
-        block.assign(l, l + m * w);
-        // The upper triangle of the diagonal block holds L's transpose: row j
-        // of L, left of the diagonal, is then column j above it, contiguous
-        // for the backward solve.
-        for (std::size_t j = 0; j < w; ++j)
-            for (std::size_t i = 0; i < w; ++i)
-                l[j * w + i] = i >= j ? block[j * m + i] : block[i * m + j];
-        double* below = l + w * w;
-        for (std::size_t t = 0; t < m - w; ++t)
-            for (std::size_t j = 0; j < w; ++j) below[t * w + j] = block[j * m + w + t];
-    }
+void arrange_supernode(const CholeskySymbolic& sym, std::span<double> values, std::size_t s,
+                       std::vector<double>& block) {
+    const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
+    const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
+    double* l = &values[sym.value_begin[s]];
+    block.assign(l, l + m * w);
+    // The upper triangle of the diagonal block holds L's transpose: row j
+    // of L, left of the diagonal, is then column j above it, contiguous
+    // for the backward solve.
+    for (std::size_t j = 0; j < w; ++j)
+        for (std::size_t i = 0; i < w; ++i)
+            l[j * w + i] = i >= j ? block[j * m + i] : block[i * m + j];
+    double* below = l + w * w;
+    for (std::size_t t = 0; t < m - w; ++t)
+        for (std::size_t j = 0; j < w; ++j) below[t * w + j] = block[j * m + w + t];
+}
+
+// Every supernode, the pool's threads each taking a run of about equal
+// size: the pass only moves memory, which one core does not saturate.
+void arrange_for_solves(const CholeskySymbolic& sym, std::span<double> values, ThreadPool* pool) {
+    const std::size_t parts = pool != nullptr ? pool->thread_count() : 1;
+    std::vector<std::size_t> cut{0};
+    for (std::size_t s = 0; s < sym.supernode_count() && cut.size() < parts; ++s)
+        if (sym.value_begin[s + 1] * parts >= sym.stored_values * cut.size()) cut.push_back(s + 1);
+    while (cut.size() <= parts) cut.push_back(sym.supernode_count());
+    run_tasks(pool, parts, [&](std::size_t t) {
+        std::vector<double> block;
+        for (std::size_t s = cut[t]; s < cut[t + 1]; ++s) arrange_supernode(sym, values, s, block);
+    });
 }
 
 }  // namespace
@@ -356,7 +368,7 @@ Status SparseCholesky::factorize(const CsrMatrix& a, ThreadPool* pool) {
         return {Errc::numerical, "Cholesky: the matrix is not positive definite (pivot of row " +
                                      std::to_string(sym.perm[failure.column]) +
                                      " is not positive)"};
-    arrange_for_solves(sym, values_);
+    arrange_for_solves(sym, values_, threads > 1 ? pool : nullptr);
     times_.numeric_ms = ms_since(start);
     factored_ = true;
     return Status::ok();
