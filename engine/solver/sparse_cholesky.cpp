@@ -20,6 +20,11 @@ constexpr std::uint32_t no_failure = std::numeric_limits<std::uint32_t>::max();
 // estimated work on; below it, waking the threads costs more than it saves.
 constexpr double split_work = 2e5;
 
+// Fewer unknowns than this are factored by one thread: below it, waking
+// the others costs more than their share (measured on the limbs of issue
+// 12, up to the elephant's trunk of 5,972 unknowns).
+constexpr std::size_t parallel_factor_minimum = 8192;
+
 // Copies A's entries into supernode s's block (zero elsewhere) and records
 // where each of its rows sits in its row list.
 void assemble_supernode(const CholeskySymbolic& sym, std::span<const double> a_values,
@@ -349,7 +354,8 @@ Status SparseCholesky::factorize(const CsrMatrix& a, ThreadPool* pool) {
     if (stop_requested()) return stopped_status();
     const auto start = std::chrono::steady_clock::now();
     const CholeskySymbolic& sym = symbolic_;
-    const std::size_t threads = pool != nullptr ? pool->thread_count() : 1;
+    const std::size_t threads =
+        pool != nullptr && sym.n >= parallel_factor_minimum ? pool->thread_count() : 1;
     values_.resize(sym.stored_values);
     size_scratch(sym, threads, scratch_);
     FirstFailure failure;
