@@ -23,7 +23,7 @@ constexpr Index flip(Index j) {
 // stands for the clique it creates. Each variable's list in `memory_` holds
 // first its adjacent elements (elements_[i] of them), then its adjacent
 // variables. size_[i] is the number of vertices supervariable i stands for.
-// Index n is an extra element that collects dense rows, ordered last.
+// Number n is an extra element that collects dense rows, ordered last.
 // Positions and numbers are kept in the signed type Index, 32-bit where
 // the lists fit: the elimination waits on memory, and halving its working
 // set takes a third off its time (79–82 against 113–117 ms at 104k
