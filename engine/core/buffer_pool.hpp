@@ -16,7 +16,9 @@ namespace dfm::buffer_pool {
 //
 // Every block comes from the aligned `operator new`, so a host's
 // replacement of it sees them. Blocks of 32 MiB or more are aligned to
-// 2 MiB and advised as transparent huge pages. Kept and used blocks
+// 2 MiB and advised as transparent huge pages. A fresh block's requested
+// pages are made present in one call (MADV_POPULATE_WRITE) rather than
+// faulted in one by one as they are first written. Kept and used blocks
 // together stay within a quarter above the peak of the bytes in use at
 // once: a request the pool cannot serve first frees kept blocks until the
 // new one fits. With no holder alive (engine code outside the SDK, or

@@ -7,9 +7,11 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #if defined(__linux__)
 #include <sys/mman.h>
+#include <unistd.h>
 #endif
 
 #include "core/buffer_pool.hpp"
@@ -62,6 +64,30 @@ TEST_CASE("buffer pool: a buffer of 32 MiB or more is aligned to 2 MiB and advis
     CHECK(big[0] == 1.5);
     CHECK(big.back() == 2.5);
 }
+
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+TEST_CASE("buffer pool: a fresh buffer's pages are present before its first write") {
+    // Above glibc's largest mmap threshold, so the block is a mapping of
+    // its own that nothing has touched.
+    const std::size_t bytes = std::size_t{40} << 20;
+    void* memory = buffer_pool::allocate(bytes, alignof(double));
+    const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+    const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(memory) + page - 1) / page * page;
+    const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(memory) + bytes) / page * page;
+    std::vector<unsigned char> present((end - begin) / page);
+    REQUIRE(::mincore(reinterpret_cast<void*>(begin), end - begin, present.data()) == 0);
+    std::size_t missing = 0;
+    for (const unsigned char p : present) missing += (p & 1u) == 0 ? 1 : 0;
+    // A kernel before 5.14 refuses the advice; then the pages fault as
+    // they are written, and there is nothing to check.
+    void* probe = ::mmap(nullptr, page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    REQUIRE(probe != MAP_FAILED);
+    const bool supported = ::madvise(probe, page, MADV_POPULATE_WRITE) == 0;
+    ::munmap(probe, page);
+    if (supported) CHECK(missing == 0);
+    buffer_pool::deallocate(memory, bytes);
+}
+#endif
 
 TEST_CASE("buffer pool: a buffer under its threshold is ordinary memory, never counted") {
     const buffer_pool::Counts before = buffer_pool::counts();
