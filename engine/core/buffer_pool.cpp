@@ -144,7 +144,8 @@ void populate(void* memory, std::size_t bytes) noexcept {
     const auto first = reinterpret_cast<std::uintptr_t>(memory);
     const std::uintptr_t begin = (first + page - 1) / page * page;
     const std::uintptr_t end = (first + bytes) / page * page;
-    if (end > begin) (void)::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
+    if (end > begin)
+        (void)::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
 #else
     (void)memory;
     (void)bytes;

@@ -93,7 +93,7 @@ public:
 
 private:
     CholeskySymbolic symbolic_;
-    CholeskySchedule schedule_;  // for the thread count of the last factorize
+    CholeskySchedule schedule_;            // for the thread count of the last factorize
     UnzeroedPooledVector<double> values_;  // every block written by the factorization
     std::vector<CholeskyScratch> scratch_;
     CholeskyTimes times_;

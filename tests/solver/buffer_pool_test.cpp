@@ -72,7 +72,8 @@ TEST_CASE("buffer pool: a fresh buffer's pages are present before its first writ
     const std::size_t bytes = std::size_t{40} << 20;
     void* memory = buffer_pool::allocate(bytes, alignof(double));
     const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-    const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(memory) + page - 1) / page * page;
+    const std::uintptr_t begin =
+        (reinterpret_cast<std::uintptr_t>(memory) + page - 1) / page * page;
     const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(memory) + bytes) / page * page;
     std::vector<unsigned char> present((end - begin) / page);
     REQUIRE(::mincore(reinterpret_cast<void*>(begin), end - begin, present.data()) == 0);
