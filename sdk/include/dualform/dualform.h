@@ -766,7 +766,7 @@ typedef struct dfm_solve_report {
     size_t unknowns;          /* vertices the solve moves */
     size_t rows;              /* dual Laplacian rows of the system */
     size_t normal_nonzeros;   /* stored entries of the normal matrix */
-    double setup_ms;          /* assembling and factoring it */
+    double setup_ms;          /* the set-up: the frames' normals, assembly, factor */
     size_t krylov_iterations; /* inner iterations of the frame's solve, in total */
     double linear_residual; /* ||b - N x|| / ||b|| of its final verified solve; NaN if unverified */
     bool linear_converged;  /* that solve reached its tolerance */
@@ -781,7 +781,8 @@ DFM_API dfm_result dfm_session_get_solve_report(dfm_session* session, dfm_solve_
  * that frame started: what a benchmark reports beside dfm_solve_report. */
 typedef struct dfm_solve_details {
     uint32_t struct_size; /* sizeof(dfm_solve_details); see the conventions */
-    /* dfm_solve_report.setup_ms in parts, ms */
+    /* dfm_solve_report.setup_ms in parts, ms (the rest: the frames' normals,
+     * the unknowns, the iteration's arrays) */
     double setup_rows_ms;     /* collecting the system's rows */
     double setup_assembly_ms; /* assembling the normal matrix */
     double setup_ordering_ms; /* the factor's fill-reducing ordering */
