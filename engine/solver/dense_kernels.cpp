@@ -256,6 +256,53 @@ DFM_TARGET_AVX2 void solve_right_lower_transposed_avx2(std::size_t m, std::size_
     solve_right_lower_transposed_body(m, w, l, ldl, x, ldx);
 }
 
+// V vectors of eight rows of X ← X L⁻ᵀ, the last vector's rows masked; each
+// entry's operations as in the body's. Each row's sum is a chain of
+// dependent subtractions: eight rows at a time kept the adder waiting on
+// its latency, V independent vectors keep it busy.
+template <std::size_t V>
+[[gnu::always_inline]] DFM_TARGET_AVX512 inline void solve_rows_avx512(
+    std::size_t w, const double* l, std::size_t ldl, double* x, std::size_t ldx, __mmask8 last) {
+    const auto rows = [last](std::size_t v) { return v + 1 < V ? __mmask8(0xff) : last; };
+    for (std::size_t j = 0; j < w; ++j) {
+        double* xj = x + j * ldx;
+        __m512d acc[V];
+        for (std::size_t v = 0; v < V; ++v) acc[v] = _mm512_maskz_loadu_pd(rows(v), xj + 8 * v);
+        for (std::size_t t = 0; t < j; ++t) {
+            const __m512d f = _mm512_set1_pd(l[j + t * ldl]);
+            const double* xt = x + t * ldx;
+            for (std::size_t v = 0; v < V; ++v) {
+                const __m512d xv = _mm512_maskz_loadu_pd(rows(v), xt + 8 * v);
+                acc[v] = _mm512_sub_pd(acc[v], _mm512_mul_pd(xv, f));
+            }
+        }
+        const __m512d inverse = _mm512_set1_pd(1.0 / l[j + j * ldl]);
+        for (std::size_t v = 0; v < V; ++v)
+            _mm512_mask_storeu_pd(xj + 8 * v, rows(v), _mm512_mul_pd(acc[v], inverse));
+    }
+}
+
+DFM_TARGET_AVX512 void solve_right_lower_transposed_avx512(std::size_t m, std::size_t w,
+                                                           const double* l, std::size_t ldl,
+                                                           double* x, std::size_t ldx) {
+    constexpr std::size_t chunk = 64;
+    std::size_t i0 = 0;
+    for (; i0 + chunk <= m; i0 += chunk) solve_rows_avx512<8>(w, l, ldl, x + i0, ldx, 0xff);
+    const std::size_t rest = m - i0;
+    if (rest == 0) return;
+    const auto last = static_cast<__mmask8>((1u << ((rest - 1) % 8 + 1)) - 1u);
+    switch ((rest + 7) / 8) {
+        case 1: solve_rows_avx512<1>(w, l, ldl, x + i0, ldx, last); break;
+        case 2: solve_rows_avx512<2>(w, l, ldl, x + i0, ldx, last); break;
+        case 3: solve_rows_avx512<3>(w, l, ldl, x + i0, ldx, last); break;
+        case 4: solve_rows_avx512<4>(w, l, ldl, x + i0, ldx, last); break;
+        case 5: solve_rows_avx512<5>(w, l, ldl, x + i0, ldx, last); break;
+        case 6: solve_rows_avx512<6>(w, l, ldl, x + i0, ldx, last); break;
+        case 7: solve_rows_avx512<7>(w, l, ldl, x + i0, ldx, last); break;
+        default: solve_rows_avx512<8>(w, l, ldl, x + i0, ldx, last); break;
+    }
+}
+
 #endif
 
 }  // namespace
@@ -305,12 +352,18 @@ std::size_t factor_diagonal(std::size_t w, double* p, std::size_t ld) {
     return factor_diagonal_body(w, p, ld);
 }
 
-void solve_right_lower_transposed(std::size_t m, std::size_t w, const double* l, std::size_t ldl,
-                                  double* x, std::size_t ldx) {
+void solve_right_lower_transposed(KernelSet set, std::size_t m, std::size_t w, const double* l,
+                                  std::size_t ldl, double* x, std::size_t ldx) {
 #if DFM_HAS_AVX2_KERNELS
-    if (avx2_available()) return solve_right_lower_transposed_avx2(m, w, l, ldl, x, ldx);
+    if (set == KernelSet::avx512) return solve_right_lower_transposed_avx512(m, w, l, ldl, x, ldx);
+    if (set == KernelSet::avx2) return solve_right_lower_transposed_avx2(m, w, l, ldl, x, ldx);
 #endif
     solve_right_lower_transposed_body(m, w, l, ldl, x, ldx);
+}
+
+void solve_right_lower_transposed(std::size_t m, std::size_t w, const double* l, std::size_t ldl,
+                                  double* x, std::size_t ldx) {
+    solve_right_lower_transposed(widest_set(), m, w, l, ldl, x, ldx);
 }
 
 std::size_t factor_panel(std::size_t m, std::size_t w, double* p, std::size_t ld) {

@@ -36,6 +36,10 @@ std::size_t factor_diagonal(std::size_t w, double* p, std::size_t ld);
 // X ← X L⁻ᵀ for the m×w block X, L the factored w×w diagonal block.
 void solve_right_lower_transposed(std::size_t m, std::size_t w, const double* l, std::size_t ldl,
                                   double* x, std::size_t ldx);
+// The same on the given set, which must be available; each set gives the
+// same bits.
+void solve_right_lower_transposed(KernelSet set, std::size_t m, std::size_t w, const double* l,
+                                  std::size_t ldl, double* x, std::size_t ldx);
 
 // Factors the m×w panel P = [P11; P21] in place, P11 being w×w symmetric:
 // P11 = L11 L11ᵀ, P21 ← P21 L11⁻ᵀ, in blocks of `panel_block` columns (the
