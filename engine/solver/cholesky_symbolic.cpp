@@ -211,19 +211,32 @@ bool CholeskySymbolic::matches(const CsrMatrix& a) const {
            a.col_indices == pattern_col_indices;
 }
 
-Status analyze_cholesky(const CsrMatrix& a, std::span<const std::uint32_t> perm,
-                        CholeskySymbolic& out) {
-    out = CholeskySymbolic{};
+Status check_cholesky_pattern(const CsrMatrix& a) {
     if (a.rows != a.cols)
         return {Errc::invalid_argument, "Cholesky: the matrix is " + std::to_string(a.rows) + "×" +
                                             std::to_string(a.cols) + ", not square"};
+    if (!has_symmetric_pattern(a))
+        return {Errc::invalid_argument,
+                "Cholesky: the matrix's pattern is not symmetric (store both triangles)"};
+    return Status::ok();
+}
+
+Status analyze_cholesky(const CsrMatrix& a, std::span<const std::uint32_t> perm,
+                        CholeskySymbolic& out) {
+    if (Status st = check_cholesky_pattern(a); !st) {
+        out = CholeskySymbolic{};
+        return st;
+    }
+    return analyze_checked_cholesky(a, perm, out);
+}
+
+Status analyze_checked_cholesky(const CsrMatrix& a, std::span<const std::uint32_t> perm,
+                                CholeskySymbolic& out) {
+    out = CholeskySymbolic{};
     const std::size_t n = a.rows;
     if (!is_permutation(perm, n))
         return {Errc::invalid_argument,
                 "Cholesky: the ordering is not a permutation of " + std::to_string(n) + " rows"};
-    if (!has_symmetric_pattern(a))
-        return {Errc::invalid_argument,
-                "Cholesky: the matrix's pattern is not symmetric (store both triangles)"};
     out.n = n;
     std::vector<std::uint32_t> tree;
     const PermutedColumns pattern = postordered_pattern(a, perm, out, tree);

@@ -85,4 +85,13 @@ struct CholeskySymbolic {
 Status analyze_cholesky(const CsrMatrix& a, std::span<const std::uint32_t> perm,
                         CholeskySymbolic& out);
 
+// The checks of analyze_cholesky that concern `a` alone: square, with a
+// symmetric pattern.
+Status check_cholesky_pattern(const CsrMatrix& a);
+
+// analyze_cholesky for a matrix that passed check_cholesky_pattern, without
+// a second pass over its pattern to check it (perm is still checked).
+Status analyze_checked_cholesky(const CsrMatrix& a, std::span<const std::uint32_t> perm,
+                                CholeskySymbolic& out);
+
 }  // namespace dfm::solver

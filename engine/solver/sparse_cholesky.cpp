@@ -10,6 +10,7 @@
 #include "solver/cholesky_schedule.hpp"
 #include "solver/dense_kernels.hpp"
 #include "solver/elimination_tree.hpp"
+#include "solver/symmetric_graph.hpp"
 
 namespace dfm::solver {
 
@@ -314,14 +315,22 @@ Status SparseCholesky::analyze(const CsrMatrix& a, OrderingMethod method) {
     values_.clear();
     schedule_ = CholeskySchedule{};
     times_ = CholeskyTimes{};
-    if (a.rows != a.cols) return analyze_cholesky(a, std::span<const std::uint32_t>{}, symbolic_);
-    if (stop_requested()) return stopped_status();
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<std::uint32_t> perm = fill_reducing_ordering(a, method);
+    // Checked once here: the ordering's graph and the analysis take the
+    // pattern as it is (one pass over it each fewer).
+    if (Status st = check_cholesky_pattern(a); !st) {
+        symbolic_ = CholeskySymbolic{};
+        return st;
+    }
+    if (stop_requested()) return stopped_status();
+    const std::vector<std::uint32_t> perm =
+        method == OrderingMethod::identity
+            ? identity_ordering(a.rows)
+            : fill_reducing_ordering(symmetric_pattern_graph(a), method);
     times_.ordering_ms = ms_since(start);
     if (stop_requested()) return stopped_status();
     const auto symbolic_start = std::chrono::steady_clock::now();
-    Status st = analyze_cholesky(a, perm, symbolic_);
+    Status st = analyze_checked_cholesky(a, perm, symbolic_);
     times_.symbolic_ms = ms_since(symbolic_start);
     return st;
 }

@@ -28,19 +28,24 @@ bool has_symmetric_pattern(const CsrMatrix& a) {
     return match_twins(a);
 }
 
-SymmetricGraph symmetric_graph(const CsrMatrix& a) {
+SymmetricGraph symmetric_pattern_graph(const CsrMatrix& a) {
     const std::size_t n = a.rows;
     SymmetricGraph g;
     g.offsets.assign(n + 1, 0);
-    if (has_symmetric_pattern(a)) {
-        g.neighbors.reserve(a.nonzeros());
-        for (std::size_t i = 0; i < n; ++i) {
-            for (std::size_t p = a.row_offsets[i]; p < a.row_offsets[i + 1]; ++p)
-                if (a.col_indices[p] != i) g.neighbors.push_back(a.col_indices[p]);
-            g.offsets[i + 1] = g.neighbors.size();
-        }
-        return g;
+    g.neighbors.reserve(a.nonzeros());
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t p = a.row_offsets[i]; p < a.row_offsets[i + 1]; ++p)
+            if (a.col_indices[p] != i) g.neighbors.push_back(a.col_indices[p]);
+        g.offsets[i + 1] = g.neighbors.size();
     }
+    return g;
+}
+
+SymmetricGraph symmetric_graph(const CsrMatrix& a) {
+    if (has_symmetric_pattern(a)) return symmetric_pattern_graph(a);
+    const std::size_t n = a.rows;
+    SymmetricGraph g;
+    g.offsets.assign(n + 1, 0);
     // Both directions of every stored entry, then one copy of each. Columns
     // beyond the last row (a matrix that is not square) are left out.
     std::vector<std::size_t> start(n + 1, 0);

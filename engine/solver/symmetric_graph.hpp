@@ -31,4 +31,8 @@ SymmetricGraph symmetric_graph(const CsrMatrix& a);
 // True when A is square and A(j, i) is stored wherever A(i, j) is.
 bool has_symmetric_pattern(const CsrMatrix& a);
 
+// symmetric_graph of a matrix known to pass has_symmetric_pattern, without
+// checking it again: its off-diagonal entries as they are.
+SymmetricGraph symmetric_pattern_graph(const CsrMatrix& a);
+
 }  // namespace dfm::solver
