@@ -22,8 +22,8 @@ namespace dfm::solver::dense {
 
 namespace {
 
-// Rows per cache block: the A rows of one block stay in L2 while every
-// 4-column tile of B streams past them.
+// Rows per cache block: the A rows of one block stay in L2 while each
+// strip of B columns streams past them.
 constexpr std::size_t row_block = 96;
 
 // One R×C tile of A Bᵀ: sums in ascending t, then stored or subtracted.
@@ -63,6 +63,7 @@ template <bool subtract, std::size_t R, std::size_t C>
 template <bool subtract, std::size_t R>
 struct TileRows {
     static constexpr std::size_t rows = R;
+    static constexpr std::size_t columns = 4;
     template <std::size_t C>
     [[gnu::always_inline]] static void sweep(std::size_t i0, std::size_t ie, std::size_t k,
                                              const double* a, std::size_t lda, const double* b,
@@ -71,16 +72,29 @@ struct TileRows {
     }
 };
 
-// Blocks of rows, each swept by 4-column strips of B and the rest: Rows's
-// tiles of Rows::rows rows hold as many independent sums as the vector
-// registers do, which is what keeps the adders busy.
+// The sweep of a strip of `tail` columns, 0 < tail ≤ C.
+template <class Rows, std::size_t C>
+[[gnu::always_inline]] inline void sweep_tail(std::size_t tail, std::size_t i0, std::size_t ie,
+                                              std::size_t k, const double* a, std::size_t lda,
+                                              const double* b, std::size_t ldb, double* c,
+                                              std::size_t ldc) {
+    if constexpr (C > 1) {
+        if (tail < C) return sweep_tail<Rows, C - 1>(tail, i0, ie, k, a, lda, b, ldb, c, ldc);
+    }
+    Rows::template sweep<C>(i0, ie, k, a, lda, b, ldb, c, ldc);
+}
+
+// Blocks of rows, each swept by strips of Rows::columns columns of B and the
+// rest: Rows's tiles hold as many independent sums as the vector registers
+// do, which is what keeps the adders busy.
 template <class Rows>
 [[gnu::always_inline]] inline void product_nt(std::size_t m, std::size_t n, std::size_t k,
                                               const double* a, std::size_t lda, const double* b,
                                               std::size_t ldb, double* c, std::size_t ldc,
                                               bool lower, std::size_t row_offset) {
     constexpr std::size_t R = Rows::rows;
-    const std::size_t n4 = n - n % 4;
+    constexpr std::size_t C = Rows::columns;
+    const std::size_t n4 = n - n % C;
     // First row whose tile starting at column j0 reaches the needed
     // triangle: global rows i0 + row_offset + R − 1 ≥ j0.
     const auto first_row = [&](std::size_t ib, std::size_t j0) {
@@ -89,19 +103,13 @@ template <class Rows>
     };
     for (std::size_t ib = 0; ib < m; ib += row_block) {
         const std::size_t ie = std::min(m, ib + row_block);
-        for (std::size_t j0 = 0; j0 < n4; j0 += 4) {
+        for (std::size_t j0 = 0; j0 < n4; j0 += C) {
             const std::size_t i0 = first_row(ib, j0);
-            if (i0 < ie) Rows::template sweep<4>(i0, ie, k, a, lda, b + j0, ldb, c + j0 * ldc, ldc);
+            if (i0 < ie) Rows::template sweep<C>(i0, ie, k, a, lda, b + j0, ldb, c + j0 * ldc, ldc);
         }
         const std::size_t i0 = first_row(ib, n4);
         if (n4 == n || i0 >= ie) continue;
-        const double* bj = b + n4;
-        double* cj = c + n4 * ldc;
-        switch (n - n4) {
-            case 1: Rows::template sweep<1>(i0, ie, k, a, lda, bj, ldb, cj, ldc); break;
-            case 2: Rows::template sweep<2>(i0, ie, k, a, lda, bj, ldb, cj, ldc); break;
-            default: Rows::template sweep<3>(i0, ie, k, a, lda, bj, ldb, cj, ldc); break;
-        }
+        sweep_tail<Rows, C - 1>(n - n4, i0, ie, k, a, lda, b + n4, ldb, c + n4 * ldc, ldc);
     }
 }
 
@@ -174,6 +182,7 @@ template <bool subtract, std::size_t V, std::size_t C>
 template <bool subtract>
 struct Avx512Rows {
     static constexpr std::size_t rows = 16;
+    static constexpr std::size_t columns = 8;
     template <std::size_t C>
     DFM_TARGET_AVX512 static void sweep(std::size_t i0, std::size_t ie, std::size_t k,
                                         const double* a, std::size_t lda, const double* b,

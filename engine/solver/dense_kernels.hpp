@@ -12,7 +12,7 @@ namespace dfm::solver::dense {
 
 // C = A Bᵀ, with A m×k and B n×k, or C −= A Bᵀ when `subtract` is set. With
 // `lower`, row i of the block is row i + row_offset of the whole and only the
-// entries with i + row_offset ≥ j are needed: whole 4×4 tiles above that line
+// entries with i + row_offset ≥ j are needed: whole tiles above that line
 // are skipped (a tile that straddles it is computed in full).
 void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, std::size_t lda,
                  const double* b, std::size_t ldb, double* c, std::size_t ldc, bool subtract,
