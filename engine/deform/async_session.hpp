@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/pooled_allocator.hpp"
 #include "core/status.hpp"
 #include "deform/deform_session.hpp"
 #include "deform/region_normals.hpp"
@@ -35,15 +36,18 @@ struct Frame {
     // FNV-1a over the bytes of `positions`, computed as the frame was
     // written: a reader that recomputes it knows the frame is whole.
     std::uint64_t checksum = 0;
-    std::vector<glm::dvec3> positions;  // one per AsyncSession::moving() vertex
+    // The arrays come from the buffer pool: a session's frames reuse the
+    // pages an earlier session's freed (fresh pages cost a set-up 16 ms at
+    // 26k vertices on the test VM).
+    PooledVector<glm::dvec3> positions;  // one per AsyncSession::moving() vertex
     // The vertices whose normals the edit changes, ascending, and their
     // normals; both empty before the set-up has ended (every normal is
     // then the rest pose's).
     std::span<const std::uint32_t> normal_vertices;
-    std::vector<glm::dvec3> normals;
+    PooledVector<glm::dvec3> normals;
     // The same in single precision, x y z per vertex, ready for a GPU upload.
-    std::vector<float> positions_f32;
-    std::vector<float> normals_f32;
+    PooledVector<float> positions_f32;
+    PooledVector<float> normals_f32;
 };
 
 std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);

@@ -542,7 +542,7 @@ dfm_result read_whole(const char* fn, dfm_session* session, const dfm_vec3_outpu
         s->async->read([&](const deform::Frame& f) {
             const std::span<const std::uint32_t> changing =
                 normals ? f.normal_vertices : s->async->moving();
-            const std::vector<glm::dvec3>& values = normals ? f.normals : f.positions;
+            const auto& values = normals ? f.normals : f.positions;
             for (std::size_t i = 0; i < changing.size(); ++i) {
                 numbering.write_one(*out, changing[i], values[i]);
             }
