@@ -37,8 +37,8 @@ struct Frame {
     // written: a reader that recomputes it knows the frame is whole.
     std::uint64_t checksum = 0;
     // The arrays come from the buffer pool: a session's frames reuse the
-    // pages an earlier session's freed (fresh pages cost a set-up 16 ms at
-    // 26k vertices on the test VM).
+    // pages an earlier session's freed (fresh pages cost the set-up of a
+    // 26k-vertex edit 16-30 ms on the test VM).
     PooledVector<glm::dvec3> positions;  // one per AsyncSession::moving() vertex
     // The vertices whose normals the edit changes, ascending, and their
     // normals; both empty before the set-up has ended (every normal is

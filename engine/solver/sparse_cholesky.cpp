@@ -316,8 +316,8 @@ Status SparseCholesky::analyze(const CsrMatrix& a, OrderingMethod method) {
     schedule_ = CholeskySchedule{};
     times_ = CholeskyTimes{};
     const auto start = std::chrono::steady_clock::now();
-    // Checked once here: the ordering's graph and the analysis take the
-    // pattern as it is (one pass over it each fewer).
+    // Checked once here: the ordering's graph and the analysis then take
+    // the pattern as it is, each without a pass over it to check it.
     if (Status st = check_cholesky_pattern(a); !st) {
         symbolic_ = CholeskySymbolic{};
         return st;
