@@ -37,7 +37,7 @@ public:
 
     std::size_t memory_bytes() const {
         return capacity_bytes(previous_f_, previous_g_, delta_f_, delta_g_, f_, products_, gram_,
-                              gamma_);
+                              gamma_, column_products_);
     }
 
 private:
@@ -56,6 +56,7 @@ private:
     std::vector<double> products_;  // ΔFᵀΔF over the ring's slots, memory_ × memory_
     std::vector<double> gram_;      // the normal equations of one step, count_ × count_
     std::vector<double> gamma_;
+    std::vector<double> column_products_;  // the newest column's inner products, count_ of them
 };
 
 }  // namespace dfm::deform
