@@ -324,9 +324,7 @@ Status SparseCholesky::analyze(const CsrMatrix& a, OrderingMethod method) {
     }
     if (stop_requested()) return stopped_status();
     const std::vector<std::uint32_t> perm =
-        method == OrderingMethod::identity
-            ? identity_ordering(a.rows)
-            : fill_reducing_ordering(symmetric_pattern_graph(a), method);
+        fill_reducing_ordering(symmetric_pattern_graph(a), method);
     times_.ordering_ms = ms_since(start);
     if (stop_requested()) return stopped_status();
     const auto symbolic_start = std::chrono::steady_clock::now();

@@ -67,10 +67,11 @@ TEST_CASE("determinism: one and two workers give the same bits through the C API
     // Over 8192 unknowns, so that the second worker takes part everywhere
     // it can: the analysis beside the assembly, the factor's subtrees, the
     // rotation fit's halves and the solves.
-    const dfm::mesh::Mesh shape = dfm::test::make_limb(96, 120, 0.2, 2.0);
+    constexpr std::size_t segments = 96;
+    const dfm::mesh::Mesh shape = dfm::test::make_limb(segments, 120, 0.2, 2.0);
     std::size_t region = 0;
     for (const glm::dvec3& p : shape.positions) region += p.y > 0.3 ? 1 : 0;
-    REQUIRE(region - 96 > 8192);  // less the ring of 96 at its boundary, which stays put
+    REQUIRE(region - segments > 8192);  // less its boundary ring, which stays put
     const std::vector<double> one = drag(shape, 1);
     const std::vector<double> two = drag(shape, 2);
     REQUIRE(one.size() == two.size());
