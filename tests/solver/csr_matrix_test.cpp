@@ -3,7 +3,9 @@
 #include <vector>
 
 #include "solver/csr_matrix.hpp"
+#include "solver/parallel_kernels.hpp"
 #include "solver/test_matrices.hpp"
+#include "solver/thread_pool.hpp"
 
 using namespace dfm::solver;
 
@@ -42,6 +44,23 @@ TEST_CASE("solver: multiply and multiply_transposed match the dense product") {
                 CHECK(y[i * k + c] == doctest::Approx(sum).epsilon(1e-13));
                 CHECK(yt[i * k + c] == doctest::Approx(sum_t).epsilon(1e-13));
             }
+        }
+    }
+}
+
+TEST_CASE("solver: the parallel product gives CsrMatrix::multiply's bits for every width") {
+    const CsrMatrix a = dfm::test::random_nonsymmetric(3000, 9, 31);
+    ThreadPool pool(2);
+    for (const std::size_t k : {1u, 2u, 3u, 5u}) {
+        CAPTURE(k);
+        const std::vector<double> x = dfm::test::random_vector(a.cols * k, 32 + k);
+        std::vector<double> expected(a.rows * k), serial(a.rows * k), shared(a.rows * k, 7.0);
+        a.multiply(x, expected, k);
+        kernels::multiply(a, x, serial, k, nullptr);
+        kernels::multiply(a, x, shared, k, &pool);
+        for (std::size_t i = 0; i < expected.size(); ++i) {
+            REQUIRE(serial[i] == expected[i]);
+            REQUIRE(shared[i] == expected[i]);
         }
     }
 }
