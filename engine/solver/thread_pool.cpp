@@ -8,10 +8,14 @@ namespace dfm::solver {
 
 namespace {
 
-// A host's debugger and profiler show whose threads these are.
-void name_this_thread() {
+// A host's debugger and profiler show whose threads these are. Named by
+// the pool as it starts them, not by each thread once it runs: a thread
+// that had not run yet (a small edit never wakes them) had no name.
+void name_solver_thread(std::thread& thread) {
 #if defined(__linux__)
-    pthread_setname_np(pthread_self(), "dfm-solver");
+    pthread_setname_np(thread.native_handle(), "dfm-solver");
+#else
+    (void)thread;
 #endif
 }
 
@@ -20,11 +24,10 @@ void name_this_thread() {
 ThreadPool::ThreadPool(std::size_t thread_count) {
     const std::size_t workers = thread_count > 1 ? thread_count - 1 : 0;
     workers_.reserve(workers);
-    for (std::size_t i = 0; i < workers; ++i)
-        workers_.emplace_back([this] {
-            name_this_thread();
-            worker_loop();
-        });
+    for (std::size_t i = 0; i < workers; ++i) {
+        workers_.emplace_back([this] { worker_loop(); });
+        name_solver_thread(workers_.back());
+    }
 }
 
 ThreadPool::~ThreadPool() {
