@@ -50,6 +50,8 @@ struct Frame {
     PooledVector<float> normals_f32;
 };
 
+// FNV-1a over the positions' 64-bit words (each double's bits; x, y, z of
+// each vertex in order), the frame's checksum.
 std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
 
 // A DeformSession behind a worker thread (docs/design.md, "The asynchronous session").

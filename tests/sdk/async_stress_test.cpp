@@ -34,7 +34,7 @@ TEST_CASE(
             dfm_frame_info info = {};
             if (dfm_session_read_roi_positions(limb.session, &out, &info) != DFM_OK) break;
             ++frames_read;
-            if (fnv1a(xyz.data(), xyz.size() * sizeof(double)) != info.checksum) ++torn;
+            if (fnv1a_words(xyz.data(), xyz.size()) != info.checksum) ++torn;
             if (info.generation < previous) ++backwards;
             if (info.partial) ++partial;
             previous = info.generation;
@@ -76,7 +76,7 @@ TEST_CASE(
     dfm_frame_info info = {};
     REQUIRE(dfm_session_read_roi_positions(limb.session, &out, &info) == DFM_OK);
     CHECK(info.generation == newest);
-    CHECK(fnv1a(xyz.data(), xyz.size() * sizeof(double)) == info.checksum);
+    CHECK(fnv1a_words(xyz.data(), xyz.size()) == info.checksum);
 }
 
 TEST_CASE("async: cancel and destroy in the middle of solves return and leave no race") {
@@ -128,8 +128,7 @@ TEST_CASE("async: three threads submit and poll one session while another acquir
             viewing = true;
             if (acquired != DFM_OK) continue;
             ++held;
-            if (fnv1a(view.roi_positions_f64, 3 * view.roi_count * sizeof(double)) !=
-                info.checksum) {
+            if (fnv1a_words(view.roi_positions_f64, 3 * view.roi_count) != info.checksum) {
                 ++torn;
             }
             if (dfm_session_release_frame(limb.session) != DFM_OK) ++failures;

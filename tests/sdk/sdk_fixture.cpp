@@ -2,6 +2,8 @@
 
 #include <doctest/doctest.h>
 
+#include <cstring>
+
 #include "support/procedural_meshes.hpp"
 
 namespace dfm::test {
@@ -55,11 +57,12 @@ void translation(double x, double y, double z, double out[16]) {
     out[14] = z;
 }
 
-std::uint64_t fnv1a(const void* data, std::size_t size) {
+std::uint64_t fnv1a_words(const double* values, std::size_t count) {
     std::uint64_t hash = 0xcbf29ce484222325ull;
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < size; ++i) {
-        hash ^= bytes[i];
+    for (std::size_t i = 0; i < count; ++i) {
+        std::uint64_t word = 0;
+        std::memcpy(&word, values + i, sizeof word);
+        hash ^= word;
         hash *= 0x100000001b3ull;
     }
     return hash;

@@ -32,9 +32,10 @@ struct LimbEdit {
 // A translation as the column-major matrix dfm_session_set_group_transform takes.
 void translation(double x, double y, double z, double out[16]);
 
-// FNV-1a over bytes, written here apart from the engine's so the test
-// checks the frame against an independent sum.
-std::uint64_t fnv1a(const void* data, std::size_t size);
+// FNV-1a over the 64-bit words of `count` doubles (the frame checksum's
+// definition in dualform.h), written here apart from the engine's so the
+// test checks the frame against an independent sum.
+std::uint64_t fnv1a_words(const double* values, std::size_t count);
 
 // "CODE: message" of the last failure on this thread, for CHECK messages.
 std::string last_error();

@@ -129,7 +129,7 @@ TEST_CASE("session: a frame read through the ROI call matches its checksum") {
     dfm_frame_info info = {};
     REQUIRE(dfm_session_read_roi_positions(limb.session, &out, &info) == DFM_OK);
     CHECK(info.generation == g);
-    CHECK(fnv1a(xyz.data(), xyz.size() * sizeof(double)) == info.checksum);
+    CHECK(fnv1a_words(xyz.data(), xyz.size()) == info.checksum);
     bool is_new = false;
     dfm_frame_info polled = {};
     REQUIRE(dfm_session_poll(limb.session, g - 1, &polled, &is_new) == DFM_OK);
@@ -156,7 +156,7 @@ TEST_CASE("session: a held frame view is whole and blocks only a second hold and
     std::size_t count = 0;
     REQUIRE(dfm_roi_count(limb.roi, &count) == DFM_OK);
     REQUIRE(view.roi_count == count);
-    CHECK(fnv1a(view.roi_positions_f64, 3 * count * sizeof(double)) == info.checksum);
+    CHECK(fnv1a_words(view.roi_positions_f64, 3 * count) == info.checksum);
     std::vector<std::uint32_t> roi(count);
     REQUIRE(dfm_roi_read(limb.roi, roi.data(), count) == DFM_OK);
     CHECK(std::memcmp(roi.data(), view.roi_vertices, count * sizeof(std::uint32_t)) == 0);
@@ -169,7 +169,7 @@ TEST_CASE("session: a held frame view is whole and blocks only a second hold and
     REQUIRE(dfm_session_set_group_transform(limb.session, 0, m) == DFM_OK);
     REQUIRE(dfm_session_submit(limb.session, &g) == DFM_OK);
     REQUIRE(dfm_session_wait(limb.session, g, -1, nullptr) == DFM_OK);
-    CHECK(fnv1a(view.roi_positions_f64, 3 * count * sizeof(double)) == info.checksum);
+    CHECK(fnv1a_words(view.roi_positions_f64, 3 * count) == info.checksum);
     dfm_frame_view second = {};
     CHECK(dfm_session_acquire_frame(limb.session, &second, nullptr) == DFM_ERROR_BUSY);
     CHECK(dfm_session_bake(limb.session) == DFM_ERROR_BUSY);

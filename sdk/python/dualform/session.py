@@ -254,11 +254,13 @@ class Session(Handle):
 
 
 def frame_checksum(roi_positions_f64: np.ndarray) -> int:
-    """FNV-1a over the bytes of packed float64 ROI positions: what
-    ``FrameInfo.checksum`` holds for an untorn frame. Pure Python, a byte at
-    a time: for checks on small ROIs, not per frame on large ones."""
+    """FNV-1a over the 64-bit words of packed float64 ROI positions (each
+    double's bits): what ``FrameInfo.checksum`` holds for an untorn frame.
+    Pure Python, a word at a time: for checks on small ROIs, not per frame
+    on large ones."""
     h = 14695981039346656037
-    for b in np.ascontiguousarray(roi_positions_f64, dtype=np.float64).tobytes():
-        h = ((h ^ b) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
+    words = np.ascontiguousarray(roi_positions_f64, dtype=np.float64).view(np.uint64)
+    for w in words.ravel().tolist():
+        h = ((h ^ w) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
     return h
 
