@@ -19,8 +19,9 @@ void for_blocks(std::size_t n, ThreadPool* pool, Body&& body) {
 
 // Rows [begin, end) of y = A x for K vectors, each row's sums held in
 // registers and stored once: summed in y itself, every addition waited on
-// the store of the one before it (y may alias nothing the compiler can
-// see). The same additions in the same order as CsrMatrix::multiply.
+// the store of the one before it, since the compiler cannot tell that y
+// overlaps neither x nor A. The same additions in the same order as
+// CsrMatrix::multiply.
 template <std::size_t K>
 void multiply_rows(const CsrMatrix& a, const double* x, double* y, std::size_t begin,
                    std::size_t end) {
