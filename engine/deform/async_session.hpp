@@ -33,8 +33,8 @@ struct Frame {
     // numerical: the solve broke down and `positions` are the last good ones;
     // any other failure: the set-up or the worker failed.
     Errc status = Errc::ok;
-    // FNV-1a over the bytes of `positions`, computed as the frame was
-    // written: a reader that recomputes it knows the frame is whole.
+    // frame_checksum(positions), computed as the frame was written: a
+    // reader that recomputes it knows the frame is whole.
     std::uint64_t checksum = 0;
     // The arrays come from the buffer pool: a session's frames reuse the
     // pages an earlier session's freed (fresh pages cost the set-up of a
