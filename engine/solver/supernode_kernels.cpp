@@ -2,14 +2,16 @@
 
 #include <cstring>
 
-// Compiled also for AVX2 and picked at run time, as the dense kernels are:
-// the same multiplications and additions in the same order, so the same
-// bits on either path.
+// Compiled also for AVX2 and for AVX-512 (whose 32 registers hold more sums;
+// the lanes stay four doubles wide) and picked at run time, as the dense
+// kernels are: the same multiplications and additions in the same order, so
+// the same bits on every path.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define DFM_HAS_AVX2_KERNELS 1
+#define DFM_HAS_X86_KERNELS 1
 #define DFM_TARGET_AVX2 __attribute__((target("avx2")))
+#define DFM_TARGET_AVX512 __attribute__((target("avx512f,avx512vl")))
 #else
-#define DFM_HAS_AVX2_KERNELS 0
+#define DFM_HAS_X86_KERNELS 0
 #endif
 
 namespace dfm::solver::supernode {
@@ -117,16 +119,82 @@ template <std::size_t K>
     }
 }
 
+// The row's entries from column 4 q on, q < C: `w` of them in all, lanes
+// past the row's end zero. Those lanes' sums are never read.
+template <std::size_t C>
+[[gnu::always_inline]] inline void load_row(std::size_t w, const double* row, Lanes (&lv)[C]) {
+    for (std::size_t q = 0; q + 1 < C; ++q) load(lv[q], row + 4 * q);
+    const double* tail = row + 4 * (C - 1);
+    switch (w - 4 * (C - 1)) {
+        case 1: lv[C - 1] = Lanes{tail[0], 0.0, 0.0, 0.0}; break;
+        case 2: lv[C - 1] = Lanes{tail[0], tail[1], 0.0, 0.0}; break;
+        case 3: lv[C - 1] = Lanes{tail[0], tail[1], tail[2], 0.0}; break;
+        default: load(lv[C - 1], tail); break;
+    }
+}
+
+// pull_rows for a supernode of at most 4 C columns, the two arrays of sums
+// in registers: through memory, each row's sums waited on the stores of the
+// row before last. Each sum takes the same products in the same order, so
+// the same bits.
+template <std::size_t K, std::size_t C>
+[[gnu::always_inline]] inline void pull_narrow_rows(std::size_t h, std::size_t w,
+                                                    const double* below, const std::uint32_t* rows,
+                                                    const double* y, double* s) {
+    Lanes acc[2][K][C];
+    for (auto& parity : acc)
+        for (auto& vector : parity)
+            for (Lanes& lanes : vector) lanes = Lanes{0.0, 0.0, 0.0, 0.0};
+    const auto add_row = [&](std::size_t t, Lanes(&a)[K][C]) {
+        Lanes lv[C] = {};
+        load_row<C>(w, below + t * w, lv);
+        const double* yt = y + static_cast<std::size_t>(rows[t]) * K;
+        for (std::size_t c = 0; c < K; ++c)
+            for (std::size_t q = 0; q < C; ++q) a[c][q] += lv[q] * yt[c];
+    };
+    std::size_t t = 0;
+    for (; t + 1 < h; t += 2) {
+        add_row(t, acc[0]);
+        add_row(t + 1, acc[1]);
+    }
+    if (t < h) add_row(t, acc[0]);
+    for (std::size_t c = 0; c < K; ++c) {
+        for (std::size_t q = 0; q < C; ++q) {
+            const Lanes sum = acc[0][c][q] + acc[1][c][q];
+            for (std::size_t lane = 0; lane < 4 && 4 * q + lane < w; ++lane)
+                s[c * w + 4 * q + lane] -= sum[lane];
+        }
+    }
+}
+
 // s[c w + j] −= Σ_t L(w + t, j) y[rows[t] k + c], that sum in two partial
 // sums over t (even t, odd t, each in ascending order) added together. The
 // rows are taken one after the other, each whole, into two arrays of sums
 // after s in the scratch: L streams in order. (Taken a few columns at a
 // time over all rows, it was read with a stride of w doubles, which the
 // processor does not prefetch over so few rows: 1.5–2× slower.)
-template <std::size_t K>
+// Supernodes of up to `max_chunks` chunks of four columns keep the sums in
+// registers (16 columns where the kernels have 32 vector registers, 8 where
+// they have 16: more spilled and were slower).
+template <std::size_t K, std::size_t max_chunks>
 [[gnu::always_inline]] inline void pull_rows(std::size_t h, std::size_t w, std::size_t k,
                                              const double* below, const std::uint32_t* rows,
                                              const double* y, double* s) {
+    if constexpr (K != 0) {
+        switch ((w + 3) / 4) {
+            case 1: return pull_narrow_rows<K, 1>(h, w, below, rows, y, s);
+            case 2: return pull_narrow_rows<K, 2>(h, w, below, rows, y, s);
+            case 3:
+                if constexpr (max_chunks >= 4)
+                    return pull_narrow_rows<K, 3>(h, w, below, rows, y, s);
+                break;
+            case 4:
+                if constexpr (max_chunks >= 4)
+                    return pull_narrow_rows<K, 4>(h, w, below, rows, y, s);
+                break;
+            default: break;
+        }
+    }
     const std::size_t kk = K != 0 ? K : k;
     double* acc[2] = {s + kk * w, s + 2 * kk * w};
     for (std::size_t i = 0; i < 2 * kk * w; ++i) acc[0][i] = 0.0;
@@ -184,7 +252,7 @@ template <std::size_t K>
     if (push > 0) push_rows<K>(push, w, kk, l + w * w, s, rows, y);
 }
 
-template <std::size_t K>
+template <std::size_t K, std::size_t max_chunks>
 [[gnu::always_inline]] inline void backward_body(std::size_t m, std::size_t w, std::size_t k,
                                                  const double* l, const std::uint32_t* rows,
                                                  double* own, const double* y, double* scratch) {
@@ -192,7 +260,7 @@ template <std::size_t K>
     const std::size_t h = m - w;
     double* s = scratch;
     split_columns<K>(w, kk, own, s);
-    if (h > 0) pull_rows<K>(h, w, kk, l + w * w, rows, y, s);
+    if (h > 0) pull_rows<K, max_chunks>(h, w, kk, l + w * w, rows, y, s);
     // Column i of the diagonal block above the diagonal is row i of L left
     // of it (SparseCholesky's layout): once y_i is known, the entries before
     // it subtract their terms, all K vectors in one pass over that column.
@@ -214,11 +282,19 @@ template <std::size_t K>
     join_columns<K>(w, kk, s, own);
 }
 
-#if DFM_HAS_AVX2_KERNELS
+#if DFM_HAS_X86_KERNELS
 bool avx2_available() {
     static const bool available = [] {
         __builtin_cpu_init();
         return __builtin_cpu_supports("avx2") != 0;
+    }();
+    return available;
+}
+
+bool avx512_available() {
+    static const bool available = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx512f") != 0 && __builtin_cpu_supports("avx512vl") != 0;
     }();
     return available;
 }
@@ -231,17 +307,32 @@ DFM_TARGET_AVX2 void forward_avx2(std::size_t m, std::size_t w, std::size_t push
 }
 
 template <std::size_t K>
+DFM_TARGET_AVX512 void forward_avx512(std::size_t m, std::size_t w, std::size_t push, std::size_t k,
+                                      const double* l, const std::uint32_t* rows, double* own,
+                                      double* y, double* scratch) {
+    forward_body<K>(m, w, push, k, l, rows, own, y, scratch);
+}
+
+template <std::size_t K>
 DFM_TARGET_AVX2 void backward_avx2(std::size_t m, std::size_t w, std::size_t k, const double* l,
                                    const std::uint32_t* rows, double* own, const double* y,
                                    double* scratch) {
-    backward_body<K>(m, w, k, l, rows, own, y, scratch);
+    backward_body<K, 2>(m, w, k, l, rows, own, y, scratch);
+}
+
+template <std::size_t K>
+DFM_TARGET_AVX512 void backward_avx512(std::size_t m, std::size_t w, std::size_t k, const double* l,
+                                       const std::uint32_t* rows, double* own, const double* y,
+                                       double* scratch) {
+    backward_body<K, 4>(m, w, k, l, rows, own, y, scratch);
 }
 #endif
 
 template <std::size_t K>
 void forward_for(std::size_t m, std::size_t w, std::size_t push, std::size_t k, const double* l,
                  const std::uint32_t* rows, double* own, double* y, double* scratch) {
-#if DFM_HAS_AVX2_KERNELS
+#if DFM_HAS_X86_KERNELS
+    if (avx512_available()) return forward_avx512<K>(m, w, push, k, l, rows, own, y, scratch);
     if (avx2_available()) return forward_avx2<K>(m, w, push, k, l, rows, own, y, scratch);
 #endif
     forward_body<K>(m, w, push, k, l, rows, own, y, scratch);
@@ -250,10 +341,11 @@ void forward_for(std::size_t m, std::size_t w, std::size_t push, std::size_t k, 
 template <std::size_t K>
 void backward_for(std::size_t m, std::size_t w, std::size_t k, const double* l,
                   const std::uint32_t* rows, double* own, const double* y, double* scratch) {
-#if DFM_HAS_AVX2_KERNELS
+#if DFM_HAS_X86_KERNELS
+    if (avx512_available()) return backward_avx512<K>(m, w, k, l, rows, own, y, scratch);
     if (avx2_available()) return backward_avx2<K>(m, w, k, l, rows, own, y, scratch);
 #endif
-    backward_body<K>(m, w, k, l, rows, own, y, scratch);
+    backward_body<K, 2>(m, w, k, l, rows, own, y, scratch);
 }
 
 }  // namespace
