@@ -83,6 +83,13 @@ __attribute__((target("avx2"))) void fit_avx2(const deform::fit_lanes::Mat3& a,
                                               deform::fit_lanes::Quad& alignment) {
     deform::fit_rotations(a, q, steps, r, alignment);
 }
+
+__attribute__((target("avx512f,avx512vl"))) void fit_avx512(const deform::fit_lanes::Mat3& a,
+                                                            deform::fit_lanes::Quat& q, int steps,
+                                                            deform::fit_lanes::Mat3& r,
+                                                            deform::fit_lanes::Quad& alignment) {
+    deform::fit_rotations(a, q, steps, r, alignment);
+}
 #endif
 
 void check_against_one_at_a_time(FitFunction fit) {
@@ -129,6 +136,8 @@ TEST_CASE("rotation fit: four lanes give each lane the one-at-a-time fit's bits"
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
     __builtin_cpu_init();
     if (__builtin_cpu_supports("avx2")) check_against_one_at_a_time(fit_avx2);
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl"))
+        check_against_one_at_a_time(fit_avx512);
 #endif
 }
 
