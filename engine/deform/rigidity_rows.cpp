@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtx/quaternion.hpp>
 
+#include "core/cpu_features.hpp"
 #include "deform/rotation_fit_lanes.hpp"
 
 // The pass over the rows is also compiled for AVX2 and for AVX-512 (its 32
@@ -339,24 +340,8 @@ double fit_rows_plain(const FitPass& pass) {
 }
 
 #if DFM_HAS_X86_FIT
-bool avx2_available() {
-    static const bool available = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("avx2") != 0;
-    }();
-    return available;
-}
-
 __attribute__((target("avx2"))) double fit_rows_avx2(const FitPass& pass) {
     return fit_rows_body(pass);
-}
-
-bool avx512_available() {
-    static const bool available = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("avx512f") != 0 && __builtin_cpu_supports("avx512vl") != 0;
-    }();
-    return available;
 }
 
 __attribute__((target("avx512f,avx512vl"))) double fit_rows_avx512(const FitPass& pass) {
@@ -366,8 +351,8 @@ __attribute__((target("avx512f,avx512vl"))) double fit_rows_avx512(const FitPass
 
 double fit_rows(const FitPass& pass) {
 #if DFM_HAS_X86_FIT
-    if (avx512_available()) return fit_rows_avx512(pass);
-    if (avx2_available()) return fit_rows_avx2(pass);
+    if (cpu::has_avx512vl()) return fit_rows_avx512(pass);
+    if (cpu::has_avx2()) return fit_rows_avx2(pass);
 #endif
     return fit_rows_plain(pass);
 }

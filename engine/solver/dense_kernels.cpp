@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/cpu_features.hpp"
+
 // Every kernel is also compiled for AVX2, and the product for AVX-512, and
 // picked at run time where the processor has them: wider vectors, the same
 // multiplications and additions in the same order (no fused multiply–add:
@@ -113,19 +115,11 @@ template <class Rows>
     }
 }
 
-// The widest set the processor runs, asked once.
+// The widest set the processor runs (plain where no other is built).
 KernelSet widest_set() {
-#if DFM_HAS_AVX2_KERNELS
-    static const KernelSet widest = [] {
-        __builtin_cpu_init();
-        if (__builtin_cpu_supports("avx512f")) return KernelSet::avx512;
-        if (__builtin_cpu_supports("avx2")) return KernelSet::avx2;
-        return KernelSet::plain;
-    }();
-    return widest;
-#else
+    if (cpu::has_avx512f()) return KernelSet::avx512;
+    if (cpu::has_avx2()) return KernelSet::avx2;
     return KernelSet::plain;
-#endif
 }
 
 #if DFM_HAS_AVX2_KERNELS

@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "core/cpu_features.hpp"
+
 // Compiled also for AVX2 and for AVX-512 (whose 32 registers hold more sums;
 // the lanes stay four doubles wide) and picked at run time, as the dense
 // kernels are: the same multiplications and additions in the same order, so
@@ -283,22 +285,6 @@ template <std::size_t K, std::size_t max_chunks>
 }
 
 #if DFM_HAS_X86_KERNELS
-bool avx2_available() {
-    static const bool available = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("avx2") != 0;
-    }();
-    return available;
-}
-
-bool avx512_available() {
-    static const bool available = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("avx512f") != 0 && __builtin_cpu_supports("avx512vl") != 0;
-    }();
-    return available;
-}
-
 template <std::size_t K>
 DFM_TARGET_AVX2 void forward_avx2(std::size_t m, std::size_t w, std::size_t push, std::size_t k,
                                   const double* l, const std::uint32_t* rows, double* own,
@@ -332,8 +318,8 @@ template <std::size_t K>
 void forward_for(std::size_t m, std::size_t w, std::size_t push, std::size_t k, const double* l,
                  const std::uint32_t* rows, double* own, double* y, double* scratch) {
 #if DFM_HAS_X86_KERNELS
-    if (avx512_available()) return forward_avx512<K>(m, w, push, k, l, rows, own, y, scratch);
-    if (avx2_available()) return forward_avx2<K>(m, w, push, k, l, rows, own, y, scratch);
+    if (cpu::has_avx512vl()) return forward_avx512<K>(m, w, push, k, l, rows, own, y, scratch);
+    if (cpu::has_avx2()) return forward_avx2<K>(m, w, push, k, l, rows, own, y, scratch);
 #endif
     forward_body<K>(m, w, push, k, l, rows, own, y, scratch);
 }
@@ -342,8 +328,8 @@ template <std::size_t K>
 void backward_for(std::size_t m, std::size_t w, std::size_t k, const double* l,
                   const std::uint32_t* rows, double* own, const double* y, double* scratch) {
 #if DFM_HAS_X86_KERNELS
-    if (avx512_available()) return backward_avx512<K>(m, w, k, l, rows, own, y, scratch);
-    if (avx2_available()) return backward_avx2<K>(m, w, k, l, rows, own, y, scratch);
+    if (cpu::has_avx512vl()) return backward_avx512<K>(m, w, k, l, rows, own, y, scratch);
+    if (cpu::has_avx2()) return backward_avx2<K>(m, w, k, l, rows, own, y, scratch);
 #endif
     backward_body<K, 2>(m, w, k, l, rows, own, y, scratch);
 }
