@@ -167,6 +167,10 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         }
         const std::size_t normal_nonzeros = normal.nonzeros();
         if (stopped()) return cancelled;
+        // From here on the fitted rotations read the rows' faces alone, the
+        // rest being in the stencils: the entries go before the factor
+        // needs room.
+        if (settings.method == DeformMethod::fitted_rotations) s->rows_.release_entries();
         if (Status st =
                 s->linear_.setup(std::move(normal), settings.preconditioner, settings.pool, stop);
             !st) {
@@ -182,8 +186,10 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         for (std::size_t h = 0; h < s->handle_vertices_.size(); ++h) {
             s->targets_[h] = s->positions_[s->handle_vertices_[h]];
         }
-        s->centroids_.assign(model.mesh.face_count(), glm::dvec3(0.0));
-        s->dual_targets_.resize(s->rows_.size());
+        if (settings.method == DeformMethod::paper) {
+            s->centroids_.assign(model.mesh.face_count(), glm::dvec3(0.0));
+            s->dual_targets_.resize(s->rows_.size());
+        }
         s->rhs_.resize(3 * u.count());
         s->x_.resize(3 * u.count());
         s->current_.resize(3 * u.count());

@@ -186,15 +186,15 @@ private:
     const MeshModel& model_;
     DeformSettings settings_;
     UnknownMap unknowns_;
-    SystemRows rows_;
+    SystemRows rows_;  // with fitted_rotations, only the faces once set up
     LinearSolver linear_;
     double epsilon_ = 0.0;
     std::vector<std::uint32_t> handle_vertices_;
     std::vector<std::uint32_t> soft_handles_;  // unknown of each handle vertex (soft mode)
     PooledVector<glm::dvec3> targets_;
     PooledVector<glm::dvec3> positions_;
-    PooledVector<glm::dvec3> centroids_;
-    PooledVector<glm::dvec3> dual_targets_;  // l_r per row
+    PooledVector<glm::dvec3> centroids_;     // paper only
+    PooledVector<glm::dvec3> dual_targets_;  // paper only: l_r per row
     PooledVector<double> rhs_;               // 3 interleaved columns
     PooledVector<double> x_;                 // the linear solve's solution: G(current)
     PooledVector<double> current_;           // the iterate the dual targets come from

@@ -40,6 +40,14 @@ struct SystemRows {
     }
 
     std::size_t size() const { return faces.size(); }
+
+    // Frees everything but `faces`, for an iteration that reads the rows
+    // from elsewhere.
+    void release_entries() {
+        entry_offsets = {};
+        entries = {};
+        centroid_faces = {};
+    }
 };
 
 SystemRows collect_rows(const MeshModel& model, const UnknownMap& unknowns);

@@ -575,7 +575,8 @@ typedef struct dfm_session_memory {
      * ordering and analysis, and the factorization's scratch (with the
      * default preconditioner; the chosen preconditioner's arrays otherwise). */
     size_t factor;
-    /* The normal matrix N, the rows it is assembled from, the rigidity
+    /* The normal matrix N, the rows it is assembled from (with the fitted
+     * rotations, only their faces once the set-up ends), the rigidity
      * rows' rest data and the map of unknowns. */
     size_t normal_matrix;
     /* The iteration's vectors: positions, targets, right-hand sides,
