@@ -43,10 +43,11 @@ struct SystemRows {
 
     // Frees everything but `faces`, for an iteration that reads the rows
     // from elsewhere.
+    // (Swapped with empty arrays: assigning {} would keep the capacity.)
     void release_entries() {
-        entry_offsets = {};
-        entries = {};
-        centroid_faces = {};
+        decltype(entry_offsets)().swap(entry_offsets);
+        decltype(entries)().swap(entries);
+        decltype(centroid_faces)().swap(centroid_faces);
     }
 };
 
