@@ -38,16 +38,18 @@ struct Frame {
     std::uint64_t checksum = 0;
     // The arrays come from the buffer pool: a session's frames reuse the
     // pages an earlier session's freed (fresh pages cost the set-up of a
-    // 26k-vertex edit 16-30 ms on the test VM).
-    PooledVector<glm::dvec3> positions;  // one per AsyncSession::moving() vertex
+    // 26k-vertex edit 16-30 ms on the test VM). They are not zeroed when
+    // sized: a slot is written whole before it is published, and the
+    // set-up sizes five of them.
+    UnzeroedPooledVector<glm::dvec3> positions;  // one per AsyncSession::moving() vertex
     // The vertices whose normals the edit changes, ascending, and their
     // normals; both empty before the set-up has ended (every normal is
     // then the rest pose's).
     std::span<const std::uint32_t> normal_vertices;
-    PooledVector<glm::dvec3> normals;
+    UnzeroedPooledVector<glm::dvec3> normals;
     // The same in single precision, x y z per vertex, ready for a GPU upload.
-    PooledVector<float> positions_f32;
-    PooledVector<float> normals_f32;
+    UnzeroedPooledVector<float> positions_f32;
+    UnzeroedPooledVector<float> normals_f32;
 };
 
 // FNV-1a over the positions' 64-bit words (each double's bits; x, y, z of
