@@ -13,7 +13,7 @@ struct Features {
 const Features& features() {
     static const Features found = [] {
         Features f;
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#if DFM_X86_DISPATCH
         __builtin_cpu_init();
         f.avx2 = __builtin_cpu_supports("avx2") != 0;
         f.avx512f = __builtin_cpu_supports("avx512f") != 0;

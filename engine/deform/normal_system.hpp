@@ -42,8 +42,8 @@ struct SystemRows {
     std::size_t size() const { return faces.size(); }
 
     // Frees everything but `faces`, for an iteration that reads the rows
-    // from elsewhere.
-    // (Swapped with empty arrays: assigning {} would keep the capacity.)
+    // from elsewhere (swapped with empty arrays: assigning {} would keep
+    // the capacity).
     void release_entries() {
         decltype(entry_offsets)().swap(entry_offsets);
         decltype(entries)().swap(entries);

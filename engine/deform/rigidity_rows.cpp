@@ -13,12 +13,8 @@
 // registers hold more of the four lanes' fit; the lanes stay four doubles)
 // and picked at run time where the processor has them, as the solver's
 // dense kernels are: the same multiplications and additions in the same
-// order (no fused multiply–add), so the same bits, in fewer instructions.
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define DFM_HAS_X86_FIT 1
-#else
-#define DFM_HAS_X86_FIT 0
-#endif
+// order (no fused multiply–add), so the same bits, in fewer instructions
+// (where DFM_X86_DISPATCH).
 
 namespace dfm::deform {
 
@@ -339,7 +335,7 @@ double fit_rows_plain(const FitPass& pass) {
     return fit_rows_body(pass);
 }
 
-#if DFM_HAS_X86_FIT
+#if DFM_X86_DISPATCH
 __attribute__((target("avx2"))) double fit_rows_avx2(const FitPass& pass) {
     return fit_rows_body(pass);
 }
@@ -350,7 +346,7 @@ __attribute__((target("avx512f,avx512vl"))) double fit_rows_avx512(const FitPass
 #endif
 
 double fit_rows(const FitPass& pass) {
-#if DFM_HAS_X86_FIT
+#if DFM_X86_DISPATCH
     if (cpu::has_avx512vl()) return fit_rows_avx512(pass);
     if (cpu::has_avx2()) return fit_rows_avx2(pass);
 #endif

@@ -11,13 +11,10 @@
 // the library builds with -ffp-contract=off), so the same bits. The choice is
 // an ordinary branch rather than an ifunc, which sanitizers' start-up code
 // does not survive.
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#if DFM_X86_DISPATCH
 #include <immintrin.h>
-#define DFM_HAS_AVX2_KERNELS 1
 #define DFM_TARGET_AVX2 __attribute__((target("avx2")))
 #define DFM_TARGET_AVX512 __attribute__((target("avx512f")))
-#else
-#define DFM_HAS_AVX2_KERNELS 0
 #endif
 
 namespace dfm::solver::dense {
@@ -122,7 +119,7 @@ KernelSet widest_set() {
     return KernelSet::plain;
 }
 
-#if DFM_HAS_AVX2_KERNELS
+#if DFM_X86_DISPATCH
 bool avx2_available() {
     return widest_set() >= KernelSet::avx2;
 }
@@ -248,7 +245,7 @@ struct Avx512Rows {
     }
 }
 
-#if DFM_HAS_AVX2_KERNELS
+#if DFM_X86_DISPATCH
 DFM_TARGET_AVX2 std::size_t factor_diagonal_avx2(std::size_t w, double* p, std::size_t ld) {
     return factor_diagonal_body(w, p, ld);
 }
@@ -317,7 +314,7 @@ bool kernel_set_available(KernelSet set) {
 void multiply_nt(KernelSet set, std::size_t m, std::size_t n, std::size_t k, const double* a,
                  std::size_t lda, const double* b, std::size_t ldb, double* c, std::size_t ldc,
                  bool subtract, bool lower, std::size_t row_offset) {
-#if DFM_HAS_AVX2_KERNELS
+#if DFM_X86_DISPATCH
     if (set == KernelSet::avx512) {
         if (subtract) {
             product_nt<Avx512Rows<true>>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
@@ -349,7 +346,7 @@ void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, s
 }
 
 std::size_t factor_diagonal(std::size_t w, double* p, std::size_t ld) {
-#if DFM_HAS_AVX2_KERNELS
+#if DFM_X86_DISPATCH
     if (avx2_available()) return factor_diagonal_avx2(w, p, ld);
 #endif
     return factor_diagonal_body(w, p, ld);
@@ -357,7 +354,7 @@ std::size_t factor_diagonal(std::size_t w, double* p, std::size_t ld) {
 
 void solve_right_lower_transposed(KernelSet set, std::size_t m, std::size_t w, const double* l,
                                   std::size_t ldl, double* x, std::size_t ldx) {
-#if DFM_HAS_AVX2_KERNELS
+#if DFM_X86_DISPATCH
     if (set == KernelSet::avx512) return solve_right_lower_transposed_avx512(m, w, l, ldl, x, ldx);
     if (set == KernelSet::avx2) return solve_right_lower_transposed_avx2(m, w, l, ldl, x, ldx);
 #endif

@@ -8,12 +8,9 @@
 // the lanes stay four doubles wide) and picked at run time, as the dense
 // kernels are: the same multiplications and additions in the same order, so
 // the same bits on every path.
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define DFM_HAS_X86_KERNELS 1
+#if DFM_X86_DISPATCH
 #define DFM_TARGET_AVX2 __attribute__((target("avx2")))
 #define DFM_TARGET_AVX512 __attribute__((target("avx512f,avx512vl")))
-#else
-#define DFM_HAS_X86_KERNELS 0
 #endif
 
 namespace dfm::solver::supernode {
@@ -284,7 +281,7 @@ template <std::size_t K, std::size_t max_chunks>
     join_columns<K>(w, kk, s, own);
 }
 
-#if DFM_HAS_X86_KERNELS
+#if DFM_X86_DISPATCH
 template <std::size_t K>
 DFM_TARGET_AVX2 void forward_avx2(std::size_t m, std::size_t w, std::size_t push, std::size_t k,
                                   const double* l, const std::uint32_t* rows, double* own,
@@ -317,7 +314,7 @@ DFM_TARGET_AVX512 void backward_avx512(std::size_t m, std::size_t w, std::size_t
 template <std::size_t K>
 void forward_for(std::size_t m, std::size_t w, std::size_t push, std::size_t k, const double* l,
                  const std::uint32_t* rows, double* own, double* y, double* scratch) {
-#if DFM_HAS_X86_KERNELS
+#if DFM_X86_DISPATCH
     if (cpu::has_avx512vl()) return forward_avx512<K>(m, w, push, k, l, rows, own, y, scratch);
     if (cpu::has_avx2()) return forward_avx2<K>(m, w, push, k, l, rows, own, y, scratch);
 #endif
@@ -327,7 +324,7 @@ void forward_for(std::size_t m, std::size_t w, std::size_t push, std::size_t k, 
 template <std::size_t K>
 void backward_for(std::size_t m, std::size_t w, std::size_t k, const double* l,
                   const std::uint32_t* rows, double* own, const double* y, double* scratch) {
-#if DFM_HAS_X86_KERNELS
+#if DFM_X86_DISPATCH
     if (cpu::has_avx512vl()) return backward_avx512<K>(m, w, k, l, rows, own, y, scratch);
     if (cpu::has_avx2()) return backward_avx2<K>(m, w, k, l, rows, own, y, scratch);
 #endif

@@ -8,6 +8,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "core/cpu_features.hpp"
 #include "deform/rotation_fit.hpp"
 #include "deform/rotation_fit_lanes.hpp"
 #include "solver/test_matrices.hpp"
@@ -76,7 +77,7 @@ void fit_plain(const deform::fit_lanes::Mat3& a, deform::fit_lanes::Quat& q, int
     deform::fit_rotations(a, q, steps, r, alignment);
 }
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#if DFM_X86_DISPATCH
 __attribute__((target("avx2"))) void fit_avx2(const deform::fit_lanes::Mat3& a,
                                               deform::fit_lanes::Quat& q, int steps,
                                               deform::fit_lanes::Mat3& r,
@@ -133,11 +134,9 @@ void check_against_one_at_a_time(FitFunction fit) {
 
 TEST_CASE("rotation fit: four lanes give each lane the one-at-a-time fit's bits") {
     check_against_one_at_a_time(fit_plain);
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx2")) check_against_one_at_a_time(fit_avx2);
-    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl"))
-        check_against_one_at_a_time(fit_avx512);
+#if DFM_X86_DISPATCH
+    if (dfm::cpu::has_avx2()) check_against_one_at_a_time(fit_avx2);
+    if (dfm::cpu::has_avx512vl()) check_against_one_at_a_time(fit_avx512);
 #endif
 }
 
