@@ -162,6 +162,8 @@ void lay_out_supernodes(const PermutedColumns& pattern, CholeskySymbolic& out) {
         out.row_begin.push_back(out.rows.size());
         out.value_begin.push_back(out.value_begin.back() + m * (end - first));
         out.max_rows = std::max(out.max_rows, m);
+        out.max_supernode_values = std::max(out.max_supernode_values, m * (end - first));
+        out.max_below_values = std::max(out.max_below_values, (m - (end - first)) * (end - first));
         double work = 0.0;
         for (std::size_t c = 0; c < end - first; ++c) {
             const double below = static_cast<double>(m - c);

@@ -28,8 +28,8 @@ struct SupernodeUpdate {
 // contiguous columns [column_begin[s], column_begin[s + 1]) and the rows
 // rows[row_begin[s] .. row_begin[s + 1]), ascending, its own columns first.
 // Its values are a dense block (rows × columns) at value_begin[s] in the
-// factor's value array: column-major while it is factored; once the whole
-// factor is, laid out for the solves (supernode_kernels.hpp).
+// factor's value array, laid out for the solves (supernode_kernels.hpp); it
+// is factored column-major in a scratch block and written there once.
 struct CholeskySymbolic {
     std::size_t n = 0;
     std::vector<std::uint32_t> perm;     // perm[new] = old, postordered
@@ -69,6 +69,8 @@ struct CholeskySymbolic {
     std::size_t stored_values = 0;    // values held, padding and upper diagonal blocks included
     std::size_t max_update_size = 0;  // largest scratch block an update needs
     std::size_t max_rows = 0;         // longest row list of a supernode
+    std::size_t max_supernode_values = 0;  // values of the largest supernode's block
+    std::size_t max_below_values = 0;      // the most values below a diagonal block
     double flops = 0.0;  // Σ of work: about the numeric phase's floating-point operations
 
     std::size_t supernode_count() const { return column_begin.size() - 1; }

@@ -303,9 +303,74 @@ DFM_TARGET_AVX512 void solve_right_lower_transposed_avx512(std::size_t m, std::s
     }
 }
 
+// The masked forms, all lanes set: GCC 12's unmasked ones pass an
+// uninitialised source that -Wmaybe-uninitialized reports.
+template <int control>
+[[gnu::always_inline]] DFM_TARGET_AVX512 inline __m512d lanes_shuffle(__m512d a, __m512d b) {
+    return _mm512_mask_shuffle_f64x2(a, 0xff, a, b, control);
+}
+
+// Eight rows by up to eight entries at a time, loaded row by row and
+// transposed in registers (the processor's gathers are slower); the last
+// rows and entries masked.
+DFM_TARGET_AVX512 void transpose_avx512(std::size_t count, std::size_t w, const double* rows,
+                                        std::size_t stride, double* out, std::size_t out_stride) {
+    for (std::size_t i = 0; i < count; i += 8) {
+        const std::size_t height = std::min<std::size_t>(8, count - i);
+        const auto stored = static_cast<__mmask8>((1u << height) - 1u);
+        for (std::size_t t0 = 0; t0 < w; t0 += 8) {
+            const std::size_t width = std::min<std::size_t>(8, w - t0);
+            const auto lanes = static_cast<__mmask8>((1u << width) - 1u);
+            const double* r = rows + i * stride + t0;
+            __m512d x[8];
+            for (std::size_t q = 0; q < 8; ++q)
+                x[q] =
+                    q < height ? _mm512_maskz_loadu_pd(lanes, r + q * stride) : _mm512_setzero_pd();
+            // Pairs of rows interleaved, then pairs of pairs, then the halves.
+            __m512d y[8];
+            for (std::size_t q = 0; q < 8; q += 2) {
+                y[q] = _mm512_mask_unpacklo_pd(x[q], 0xff, x[q], x[q + 1]);
+                y[q + 1] = _mm512_mask_unpackhi_pd(x[q], 0xff, x[q], x[q + 1]);
+            }
+            __m512d z[8];
+            for (std::size_t h = 0; h < 8; h += 4) {
+                z[h] = lanes_shuffle<0x88>(y[h], y[h + 2]);
+                z[h + 1] = lanes_shuffle<0xdd>(y[h], y[h + 2]);
+                z[h + 2] = lanes_shuffle<0x88>(y[h + 1], y[h + 3]);
+                z[h + 3] = lanes_shuffle<0xdd>(y[h + 1], y[h + 3]);
+            }
+            // z[0..3] hold rows 0-3 of entries {0, 4}, {2, 6}, {1, 5}, {3, 7};
+            // z[4..7] the same of rows 4-7.
+            constexpr std::size_t source[4] = {0, 2, 1, 3};
+            for (std::size_t c = 0; c < 4; ++c) {
+                const std::size_t q = source[c];
+                if (c < width)
+                    _mm512_mask_storeu_pd(out + (t0 + c) * out_stride + i, stored,
+                                          lanes_shuffle<0x88>(z[q], z[q + 4]));
+                if (c + 4 < width)
+                    _mm512_mask_storeu_pd(out + (t0 + c + 4) * out_stride + i, stored,
+                                          lanes_shuffle<0xdd>(z[q], z[q + 4]));
+            }
+        }
+    }
+}
 #endif
 
 }  // namespace
+
+void transpose(KernelSet set, std::size_t count, std::size_t w, const double* rows,
+               std::size_t stride, double* out, std::size_t out_stride) {
+#if DFM_X86_DISPATCH
+    if (set == KernelSet::avx512) return transpose_avx512(count, w, rows, stride, out, out_stride);
+#endif
+    for (std::size_t i = 0; i < count; ++i)
+        for (std::size_t t = 0; t < w; ++t) out[t * out_stride + i] = rows[i * stride + t];
+}
+
+void transpose(std::size_t count, std::size_t w, const double* rows, std::size_t stride,
+               double* out, std::size_t out_stride) {
+    transpose(widest_set(), count, w, rows, stride, out, out_stride);
+}
 
 bool kernel_set_available(KernelSet set) {
     return set <= widest_set();

@@ -51,4 +51,16 @@ std::size_t factor_panel(std::size_t m, std::size_t w, double* p, std::size_t ld
 // row work between threads follows the same blocks.
 inline constexpr std::size_t panel_block = 32;
 
+// The transpose of `count` rows of `w` entries, row r at rows + r stride:
+// entry t of row r goes to out[t out_stride + r]. It moves the factor's
+// blocks between the factorization's layout (by column) and the solves'
+// (the rows below the diagonal block by row); nothing else of `out` is
+// written.
+void transpose(std::size_t count, std::size_t w, const double* rows, std::size_t stride,
+               double* out, std::size_t out_stride);
+
+// transpose on the given set, which must be available.
+void transpose(KernelSet set, std::size_t count, std::size_t w, const double* rows,
+               std::size_t stride, double* out, std::size_t out_stride);
+
 }  // namespace dfm::solver::dense

@@ -26,37 +26,39 @@ constexpr double split_work = 2e5;
 // 12, up to the elephant's trunk of 5,972 unknowns).
 constexpr std::size_t parallel_factor_minimum = 8192;
 
-// Copies A's entries into supernode s's block (zero elsewhere) and records
-// where each of its rows sits in its row list.
+// Each supernode is assembled and factored column by column in a thread's
+// scratch (its `front`), then written to the factor once, laid out for the
+// solves; its ancestors' updates read it there.
+
+// Copies A's entries into supernode s's block `front` (zero elsewhere) and
+// records where each of its rows sits in its row list.
 void assemble_supernode(const CholeskySymbolic& sym, std::span<const double> a_values,
-                        std::span<double> l_values, std::uint32_t s,
-                        std::span<std::uint32_t> position) {
+                        double* front, std::uint32_t s, std::span<std::uint32_t> position) {
     const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
     const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
-    double* l = &l_values[sym.value_begin[s]];
-    std::fill(l, l + m * w, 0.0);
+    std::fill(front, front + m * w, 0.0);
+    const std::size_t base = sym.value_begin[s];
     for (std::size_t e = sym.entry_begin[s]; e < sym.entry_begin[s + 1]; ++e)
-        l_values[sym.entry_target[e]] = a_values[sym.entry_source[e]];
+        front[sym.entry_target[e] - base] = a_values[sym.entry_source[e]];
     const std::uint32_t* rows = &sym.rows[sym.row_begin[s]];
     for (std::size_t t = 0; t < m; ++t) position[rows[t]] = static_cast<std::uint32_t>(t);
 }
 
-// Subtracts from supernode s the updates of all its descendants, restricted
-// to s's rows [row_begin, row_end): for each descendant, the product of its
-// rows landing there with its rows in s's columns, then a scatter.
-void apply_updates(const CholeskySymbolic& sym, std::span<double> l_values, std::uint32_t s,
-                   std::span<const std::uint32_t> position, std::size_t row_begin,
+// Subtracts from supernode s's block `front` the updates of all its
+// descendants, restricted to s's rows [row_begin, row_end): for each
+// descendant, the product of its rows landing there with its rows in s's
+// columns, then a scatter.
+void apply_updates(const CholeskySymbolic& sym, std::span<const double> l_values, std::uint32_t s,
+                   double* front, std::span<const std::uint32_t> position, std::size_t row_begin,
                    std::size_t row_end, CholeskyScratch& scratch) {
     const std::uint32_t first = sym.column_begin[s];
     const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
-    double* l = &l_values[sym.value_begin[s]];
     for (std::size_t u = sym.update_begin[s]; u < sym.update_begin[s + 1]; ++u) {
         const SupernodeUpdate& update = sym.updates[u];
         const std::uint32_t d = update.source;
         const std::size_t md = sym.row_begin[d + 1] - sym.row_begin[d];
         const std::size_t wd = sym.column_begin[d + 1] - sym.column_begin[d];
         const std::uint32_t* rows_d = &sym.rows[sym.row_begin[d]];
-        const double* ld = &l_values[sym.value_begin[d]];
         // d's rows from `first` on land on ascending rows of s; keep those in
         // range.
         std::size_t lo = update.first;
@@ -75,13 +77,20 @@ void apply_updates(const CholeskySymbolic& sym, std::span<double> l_values, std:
         const std::size_t height = hi - lo;
         const std::size_t width = update.last - update.first;
         const std::size_t offset = lo - update.first;
+        // d's rows below its diagonal block are stored row by row; the
+        // product reads them by column, gathered into the scratch.
+        const std::size_t gathered = hi - update.first;
+        double* panel = scratch.panel.data();
+        dense::transpose(gathered, wd,
+                         &l_values[sym.value_begin[d]] + wd * wd + (update.first - wd) * wd, wd,
+                         panel, gathered);
         double* block = scratch.block.data();
-        dense::multiply_nt(height, width, wd, ld + lo, md, ld + update.first, md, block, height,
-                           false, true, offset);
+        dense::multiply_nt(height, width, wd, panel + offset, gathered, panel, gathered, block,
+                           height, false, true, offset);
         std::uint32_t* relative = scratch.relative.data();
         for (std::size_t t = 0; t < height; ++t) relative[t] = position[rows_d[lo + t]];
         for (std::size_t c = 0; c < width; ++c) {
-            double* target = l + static_cast<std::size_t>(rows_d[update.first + c] - first) * m;
+            double* target = front + static_cast<std::size_t>(rows_d[update.first + c] - first) * m;
             const double* column = block + c * height;
             for (std::size_t t = c > offset ? c - offset : 0; t < height; ++t)
                 target[relative[t]] -= column[t];
@@ -89,17 +98,48 @@ void apply_updates(const CholeskySymbolic& sym, std::span<double> l_values, std:
     }
 }
 
-// Assembles supernode s from A's entries and its descendants' updates, then
-// factors it. Returns the failing column (factor numbering) or no_failure.
+// A supernode factored in `front` (m×w, column-major) is written to the
+// factor in the solves' layout (supernode_kernels.hpp): its diagonal block,
+// then the rows below it row by row, so that both solves stream L in order.
+
+// The diagonal block, with L's transpose in its upper triangle: row j of L,
+// left of the diagonal, is then column j above it, contiguous for the
+// backward solve.
+void arrange_diagonal_block(const CholeskySymbolic& sym, const double* front,
+                            std::span<double> values, std::size_t s) {
+    const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
+    const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
+    double* l = &values[sym.value_begin[s]];
+    for (std::size_t j = 0; j < w; ++j)
+        for (std::size_t i = 0; i < w; ++i)
+            l[j * w + i] = i >= j ? front[j * m + i] : front[i * m + j];
+}
+
+// Rows [begin, end) of those below the diagonal block.
+void arrange_rows_below(const CholeskySymbolic& sym, const double* front, std::span<double> values,
+                        std::size_t s, std::size_t begin, std::size_t end) {
+    const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
+    const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
+    double* below = &values[sym.value_begin[s]] + w * w;
+    dense::transpose(w, end - begin, front + w + begin, m, below + begin * w, w);
+}
+
+// Assembles supernode s from A's entries and its descendants' updates,
+// factors it and writes it to the factor. Returns the failing column
+// (factor numbering) or no_failure.
 std::uint32_t factor_supernode(const CholeskySymbolic& sym, std::span<const double> a_values,
                                std::span<double> l_values, std::uint32_t s,
                                CholeskyScratch& scratch) {
     const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
     const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
-    assemble_supernode(sym, a_values, l_values, s, scratch.position);
-    apply_updates(sym, l_values, s, scratch.position, 0, m, scratch);
-    const std::size_t done = dense::factor_panel(m, w, &l_values[sym.value_begin[s]], m);
-    return done == w ? no_failure : sym.column_begin[s] + static_cast<std::uint32_t>(done);
+    double* front = scratch.front.data();
+    assemble_supernode(sym, a_values, front, s, scratch.position);
+    apply_updates(sym, l_values, s, front, scratch.position, 0, m, scratch);
+    const std::size_t done = dense::factor_panel(m, w, front, m);
+    if (done < w) return sym.column_begin[s] + static_cast<std::uint32_t>(done);
+    arrange_diagonal_block(sym, front, l_values, s);
+    arrange_rows_below(sym, front, l_values, s, 0, m - w);
+    return no_failure;
 }
 
 // Cuts rows [begin, end) into `parts` ranges of about equal weight; row r
@@ -130,16 +170,16 @@ std::uint32_t factor_supernode_split(const CholeskySymbolic& sym, std::span<cons
     const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
     const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
     const std::size_t threads = pool.thread_count();
-    double* l = &l_values[sym.value_begin[s]];
+    double* front = scratch[0].front.data();
     const std::span<const std::uint32_t> position = scratch[0].position;
-    assemble_supernode(sym, a_values, l_values, s, scratch[0].position);
+    assemble_supernode(sym, a_values, front, s, scratch[0].position);
     const std::vector<std::size_t> cut = split_rows(0, m, threads, 0, w);
     pool.run(threads, [&](std::size_t t) {
-        apply_updates(sym, l_values, s, position, cut[t], cut[t + 1], scratch[t]);
+        apply_updates(sym, l_values, s, front, position, cut[t], cut[t + 1], scratch[t]);
     });
     for (std::size_t kb = 0; kb < w; kb += dense::panel_block) {
         const std::size_t ke = std::min(w, kb + dense::panel_block);
-        double* diagonal = l + kb + kb * m;
+        double* diagonal = front + kb + kb * m;
         const std::size_t done = dense::factor_diagonal(ke - kb, diagonal, m);
         if (done < ke - kb) return sym.column_begin[s] + static_cast<std::uint32_t>(kb + done);
         const std::vector<std::size_t> rows = split_rows(ke, m, threads, ke, w - ke);
@@ -147,17 +187,23 @@ std::uint32_t factor_supernode_split(const CholeskySymbolic& sym, std::span<cons
             const std::size_t r0 = rows[t];
             const std::size_t r1 = rows[t + 1];
             if (r0 == r1) return;
-            dense::solve_right_lower_transposed(r1 - r0, ke - kb, diagonal, m, l + r0 + kb * m, m);
+            dense::solve_right_lower_transposed(r1 - r0, ke - kb, diagonal, m, front + r0 + kb * m,
+                                                m);
         });
         if (ke == w) continue;
         pool.run(threads, [&](std::size_t t) {
             const std::size_t r0 = rows[t];
             const std::size_t r1 = rows[t + 1];
             if (r0 == r1) return;
-            dense::multiply_nt(r1 - r0, w - ke, ke - kb, l + r0 + kb * m, m, l + ke + kb * m, m,
-                               l + r0 + ke * m, m, true, true, r0 - ke);
+            dense::multiply_nt(r1 - r0, w - ke, ke - kb, front + r0 + kb * m, m,
+                               front + ke + kb * m, m, front + r0 + ke * m, m, true, true, r0 - ke);
         });
     }
+    arrange_diagonal_block(sym, front, l_values, s);
+    const std::vector<std::size_t> below = split_rows(0, m - w, threads, 0, 1);
+    pool.run(threads, [&](std::size_t t) {
+        arrange_rows_below(sym, front, l_values, s, below[t], below[t + 1]);
+    });
     return no_failure;
 }
 
@@ -167,7 +213,8 @@ void size_scratch(const CholeskySymbolic& sym, std::size_t threads,
     while (scratch.size() < threads) scratch.emplace_back(sym);
     for (CholeskyScratch& s : scratch)
         if (s.position.size() != sym.n || s.block.size() < sym.max_update_size ||
-            s.relative.size() < sym.max_rows)
+            s.relative.size() < sym.max_rows || s.front.size() < sym.max_supernode_values ||
+            s.panel.size() < sym.max_below_values)
             s = CholeskyScratch(sym);
 }
 
@@ -245,47 +292,16 @@ void factor_top(const CholeskySymbolic& sym, const CholeskySchedule& schedule,
 }  // namespace
 
 CholeskyScratch::CholeskyScratch(const CholeskySymbolic& sym)
-    : position(sym.n), relative(sym.max_rows), block(sym.max_update_size) {}
+    : position(sym.n),
+      relative(sym.max_rows),
+      block(sym.max_update_size),
+      front(sym.max_supernode_values),
+      panel(sym.max_below_values) {}
 
 namespace {
 
 Status stopped_status() {
     return {Errc::cancelled, "Cholesky: stopped by the stop flag"};
-}
-
-// The factorization reads its supernodes column by column; the solves read
-// the rows below each diagonal block row by row (supernode_kernels.hpp), so
-// that both stream L in order instead of striding across its columns. Once
-// every supernode is factored, each block is rearranged in place.
-void arrange_supernode(const CholeskySymbolic& sym, std::span<double> values, std::size_t s,
-                       std::vector<double>& block) {
-    const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
-    const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
-    double* l = &values[sym.value_begin[s]];
-    block.assign(l, l + m * w);
-    // The upper triangle of the diagonal block holds L's transpose: row j
-    // of L, left of the diagonal, is then column j above it, contiguous
-    // for the backward solve.
-    for (std::size_t j = 0; j < w; ++j)
-        for (std::size_t i = 0; i < w; ++i)
-            l[j * w + i] = i >= j ? block[j * m + i] : block[i * m + j];
-    double* below = l + w * w;
-    for (std::size_t t = 0; t < m - w; ++t)
-        for (std::size_t j = 0; j < w; ++j) below[t * w + j] = block[j * m + w + t];
-}
-
-// Every supernode, the pool's threads each taking a run of about equal
-// size: the pass only moves memory, which one core does not saturate.
-void arrange_for_solves(const CholeskySymbolic& sym, std::span<double> values, ThreadPool* pool) {
-    const std::size_t parts = pool != nullptr ? pool->thread_count() : 1;
-    std::vector<std::size_t> cut{0};
-    for (std::size_t s = 0; s < sym.supernode_count() && cut.size() < parts; ++s)
-        if (sym.value_begin[s + 1] * parts >= sym.stored_values * cut.size()) cut.push_back(s + 1);
-    while (cut.size() <= parts) cut.push_back(sym.supernode_count());
-    run_tasks(pool, parts, [&](std::size_t t) {
-        std::vector<double> block;
-        for (std::size_t s = cut[t]; s < cut[t + 1]; ++s) arrange_supernode(sym, values, s, block);
-    });
 }
 
 }  // namespace
@@ -305,7 +321,7 @@ std::size_t SparseCholesky::memory_bytes() const {
     for (const std::vector<std::uint32_t>& roots : schedule_.subtrees)
         bytes += capacity_bytes(roots);
     for (const CholeskyScratch& t : scratch_)
-        bytes += capacity_bytes(t.position, t.relative, t.block);
+        bytes += capacity_bytes(t.position, t.relative, t.block, t.front, t.panel);
     return bytes;
 }
 
@@ -381,8 +397,6 @@ Status SparseCholesky::factorize(const CsrMatrix& a, ThreadPool* pool) {
         return {Errc::numerical, "Cholesky: the matrix is not positive definite (pivot of row " +
                                      std::to_string(sym.perm[failure.column]) +
                                      " is not positive)"};
-    arrange_for_solves(sym, values_, threads > 1 ? pool : nullptr);
-    times_.numeric_ms = ms_since(start);
     factored_ = true;
     return Status::ok();
 }

@@ -16,14 +16,19 @@
 
 namespace dfm::solver {
 
-// What one thread needs to assemble supernodes: where each row of the
-// supernode at hand sits in its row list, and room for one update block.
+// What one thread needs to factor supernodes: where each row of the
+// supernode at hand sits in its row list, room for one update block, the
+// supernode's block while it is assembled and factored (`front`), and a
+// descendant's rows below its diagonal block gathered by column (`panel`).
 struct CholeskyScratch {
     explicit CholeskyScratch(const CholeskySymbolic& sym);
 
     std::vector<std::uint32_t> position;
     std::vector<std::uint32_t> relative;
     std::vector<double> block;
+    // Each written before it is read.
+    UnzeroedPooledVector<double> front;
+    UnzeroedPooledVector<double> panel;
 };
 
 // Wall-clock times of the phases that built the current factor, in ms; an

@@ -144,3 +144,37 @@ TEST_CASE("solver: the triangular solve of the rows below gives the same bits on
     }
     MESSAGE("compared ", compared, " solves with the plain kernel's");
 }
+
+TEST_CASE("solver: the transpose moves every entry and writes nothing else, on every set") {
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<std::size_t> size(1, 40);
+    std::size_t compared = 0;
+    for (int trial = 0; trial < 80; ++trial) {
+        // Rows and entries past the eight of a register's block, and tails of
+        // every length.
+        const std::size_t count = size(rng), w = size(rng);
+        const std::size_t stride = w + size(rng) % 5, out_stride = count + size(rng) % 5;
+        std::vector<double> rows(count * stride);
+        for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = static_cast<double>(i) + 0.5;
+        for (dense::KernelSet set :
+             {dense::KernelSet::plain, dense::KernelSet::avx2, dense::KernelSet::avx512}) {
+            if (!dense::kernel_set_available(set)) continue;
+            std::vector<double> out(w * out_stride, -1.0);
+            dense::transpose(set, count, w, rows.data(), stride, out.data(), out_stride);
+            bool moved = true, untouched = true;
+            for (std::size_t t = 0; t < w; ++t)
+                for (std::size_t i = 0; i < out_stride; ++i) {
+                    const double got = out[t * out_stride + i];
+                    if (i < count) {
+                        moved = moved && got == rows[i * stride + t];
+                    } else {
+                        untouched = untouched && got == -1.0;
+                    }
+                }
+            CHECK(moved);
+            CHECK(untouched);
+            ++compared;
+        }
+    }
+    MESSAGE("compared ", compared, " transposes");
+}
