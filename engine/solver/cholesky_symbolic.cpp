@@ -1,6 +1,7 @@
 #include "solver/cholesky_symbolic.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <string>
 
 #include "solver/elimination_tree.hpp"
@@ -109,8 +110,9 @@ PermutedColumns postordered_pattern(const CsrMatrix& a, std::span<const std::uin
 
 // Row lists, children before parents: a supernode's rows are its columns,
 // A's entries below them and its children's rows below them. Places A's
-// entries and sizes the value blocks in the same pass.
-void lay_out_supernodes(const PermutedColumns& pattern, CholeskySymbolic& out) {
+// entries and sizes the value blocks in the same pass. Fails when a block
+// would outgrow the 32-bit entry targets.
+Status lay_out_supernodes(const PermutedColumns& pattern, CholeskySymbolic& out) {
     const std::size_t s_count = out.supernode_count();
     std::vector<std::uint32_t> child_head(s_count, no_parent);
     std::vector<std::uint32_t> child_next(s_count, no_parent);
@@ -148,10 +150,15 @@ void lay_out_supernodes(const PermutedColumns& pattern, CholeskySymbolic& out) {
         }
         std::sort(list.begin() + (end - first), list.end());
         const std::size_t m = list.size();
+        if (m * (end - first) > std::numeric_limits<std::uint32_t>::max())
+            return {Errc::invalid_argument, "Cholesky: supernode " + std::to_string(s) +
+                                                " would hold " + std::to_string(m) + "×" +
+                                                std::to_string(end - first) +
+                                                " values, more than 4294967295"};
         for (std::size_t t = 0; t < m; ++t) position[list[t]] = static_cast<std::uint32_t>(t);
         // Column c of P A Pᵀ is read from row perm[c] of A, A being symmetric.
         for (std::uint32_t c = first; c < end; ++c) {
-            const std::size_t column = out.value_begin.back() + (c - first) * m;
+            const auto column = static_cast<std::uint32_t>((c - first) * m);
             for (std::size_t e = pattern.begin[c]; e < pattern.lower_end[c]; ++e) {
                 out.entry_source.push_back(pattern.source[e]);
                 out.entry_target.push_back(column + position[pattern.rows[e]]);
@@ -173,6 +180,7 @@ void lay_out_supernodes(const PermutedColumns& pattern, CholeskySymbolic& out) {
         out.flops += work;
     }
     out.stored_values = out.value_begin.back();
+    return Status::ok();
 }
 
 // Who updates whom: each supernode's rows below its columns, cut into runs
@@ -220,6 +228,10 @@ Status check_cholesky_pattern(const CsrMatrix& a) {
     if (!has_symmetric_pattern(a))
         return {Errc::invalid_argument,
                 "Cholesky: the matrix's pattern is not symmetric (store both triangles)"};
+    if (a.nonzeros() > std::numeric_limits<std::uint32_t>::max())
+        return {Errc::invalid_argument, "Cholesky: the matrix stores " +
+                                            std::to_string(a.nonzeros()) +
+                                            " entries, more than 4294967295"};
     return Status::ok();
 }
 
@@ -263,7 +275,10 @@ Status analyze_checked_cholesky(const CsrMatrix& a, std::span<const std::uint32_
             out.subtree_begin[out.parent[s]] =
                 std::min(out.subtree_begin[out.parent[s]], out.subtree_begin[s]);
 
-    lay_out_supernodes(pattern, out);
+    if (Status st = lay_out_supernodes(pattern, out); !st) {
+        out = CholeskySymbolic{};
+        return st;
+    }
     list_updates(column_to_super, out);
     out.pattern_row_offsets = a.row_offsets;
     out.pattern_col_indices = a.col_indices;

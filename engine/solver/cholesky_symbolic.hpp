@@ -48,11 +48,11 @@ struct CholeskySymbolic {
 
     // Where A's entries go: for supernode s, the entries
     // [entry_begin[s], entry_begin[s + 1]) copy A.values[entry_source[e]] to
-    // the factor's value entry_target[e]. Of each pair of twins A(i, j),
-    // A(j, i) one is read: the one in the row eliminated first.
+    // value entry_target[e] of s's column-major block. Of each pair of twins
+    // A(i, j), A(j, i) one is read: the one in the row eliminated first.
     PooledVector<std::size_t> entry_begin{0};
-    PooledVector<std::size_t> entry_source;
-    PooledVector<std::size_t> entry_target;
+    PooledVector<std::uint32_t> entry_source;
+    PooledVector<std::uint32_t> entry_target;
 
     // The last supernode of the subtree rooted at s is s; its first is
     // subtree_begin[s] (postorder makes subtrees contiguous).
@@ -82,13 +82,14 @@ struct CholeskySymbolic {
 // Analyses the pattern of the symmetric matrix `a` (both triangles stored)
 // for the ordering `perm` (perm[new] = old): postorders the elimination tree,
 // counts columns, finds and amalgamates supernodes, and lays out the factor.
-// Fails when `a` is not square, its pattern is not symmetric, or `perm` is
-// not a permutation of its rows.
+// Fails when `a` is not square, its pattern is not symmetric, it stores 2³²
+// entries or more, `perm` is not a permutation of its rows, or a
+// supernode's block would hold 2³² values or more.
 Status analyze_cholesky(const CsrMatrix& a, std::span<const std::uint32_t> perm,
                         CholeskySymbolic& out);
 
 // The checks of analyze_cholesky that concern `a` alone: square, with a
-// symmetric pattern.
+// symmetric pattern, fewer than 2³² entries.
 Status check_cholesky_pattern(const CsrMatrix& a);
 
 // analyze_cholesky for a matrix that passed check_cholesky_pattern, without

@@ -23,7 +23,7 @@ PermutedColumns permuted_columns(const CsrMatrix& a, std::span<const std::uint32
             const bool lower = i >= j;
             const std::size_t slot = lower ? front : back - 1;
             out.rows[slot] = i;
-            out.source[slot] = p;
+            out.source[slot] = static_cast<std::uint32_t>(p);
             front += lower ? 1 : 0;
             back -= lower ? 0 : 1;
         }

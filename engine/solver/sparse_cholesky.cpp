@@ -37,9 +37,8 @@ void assemble_supernode(const CholeskySymbolic& sym, std::span<const double> a_v
     const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
     const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
     std::fill(front, front + m * w, 0.0);
-    const std::size_t base = sym.value_begin[s];
     for (std::size_t e = sym.entry_begin[s]; e < sym.entry_begin[s + 1]; ++e)
-        front[sym.entry_target[e] - base] = a_values[sym.entry_source[e]];
+        front[sym.entry_target[e]] = a_values[sym.entry_source[e]];
     const std::uint32_t* rows = &sym.rows[sym.row_begin[s]];
     for (std::size_t t = 0; t < m; ++t) position[rows[t]] = static_cast<std::uint32_t>(t);
 }
