@@ -206,17 +206,6 @@ std::uint32_t factor_supernode_split(const CholeskySymbolic& sym, std::span<cons
     return no_failure;
 }
 
-// Room for each thread's scratch, made anew where the analysis outgrew it.
-void size_scratch(const CholeskySymbolic& sym, std::size_t threads,
-                  std::vector<CholeskyScratch>& scratch) {
-    while (scratch.size() < threads) scratch.emplace_back(sym);
-    for (CholeskyScratch& s : scratch)
-        if (s.position.size() != sym.n || s.block.size() < sym.max_update_size ||
-            s.relative.size() < sym.max_rows || s.front.size() < sym.max_supernode_values ||
-            s.panel.size() < sym.max_below_values)
-            s = CholeskyScratch(sym);
-}
-
 // The failure to report: a failure stops the supernodes that depend on it,
 // and the one reported is the first in factor order, as a sequential run
 // would find it.
@@ -316,11 +305,9 @@ std::size_t SparseCholesky::memory_bytes() const {
         s.perm, s.inverse, s.column_begin, s.parent, s.row_begin, s.rows, s.value_begin,
         s.update_begin, s.updates, s.entry_begin, s.entry_source, s.entry_target, s.subtree_begin,
         s.work, s.pattern_row_offsets, s.pattern_col_indices);
-    bytes += capacity_bytes(schedule_.subtrees, schedule_.top, values_, scratch_);
+    bytes += capacity_bytes(schedule_.subtrees, schedule_.top, values_);
     for (const std::vector<std::uint32_t>& roots : schedule_.subtrees)
         bytes += capacity_bytes(roots);
-    for (const CholeskyScratch& t : scratch_)
-        bytes += capacity_bytes(t.position, t.relative, t.block, t.front, t.panel);
     return bytes;
 }
 
@@ -379,14 +366,21 @@ Status SparseCholesky::factorize(const CsrMatrix& a, ThreadPool* pool) {
     const std::size_t threads =
         pool != nullptr && sym.n >= parallel_factor_minimum ? pool->thread_count() : 1;
     values_.resize(sym.stored_values);
-    size_scratch(sym, threads, scratch_);
     FirstFailure failure;
-    if (threads == 1) {
-        factor_in_order(sym, a.values, values_, scratch_[0], failure, stop_);
-    } else {
-        if (schedule_.subtrees.size() != threads) schedule_ = make_cholesky_schedule(sym, threads);
-        factor_subtrees(sym, schedule_, a.values, values_, scratch_, *pool, failure, stop_);
-        factor_top(sym, schedule_, a.values, values_, scratch_, *pool, failure, stop_);
+    {
+        // Each thread's scratch, given back to the buffer pool with the
+        // factor done (kept there for the next set-up, in an SDK context).
+        std::vector<CholeskyScratch> scratch;
+        scratch.reserve(threads);
+        for (std::size_t t = 0; t < threads; ++t) scratch.emplace_back(sym);
+        if (threads == 1) {
+            factor_in_order(sym, a.values, values_, scratch[0], failure, stop_);
+        } else {
+            if (schedule_.subtrees.size() != threads)
+                schedule_ = make_cholesky_schedule(sym, threads);
+            factor_subtrees(sym, schedule_, a.values, values_, scratch, *pool, failure, stop_);
+            factor_top(sym, schedule_, a.values, values_, scratch, *pool, failure, stop_);
+        }
     }
     times_.numeric_ms = ms_since(start);
     // A stop may leave supernodes unfactored behind one that failed for

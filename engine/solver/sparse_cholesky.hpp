@@ -20,13 +20,13 @@ namespace dfm::solver {
 // supernode at hand sits in its row list, room for one update block, the
 // supernode's block while it is assembled and factored (`front`), and a
 // descendant's rows below its diagonal block gathered by column (`panel`).
+// Each array is written before it is read.
 struct CholeskyScratch {
     explicit CholeskyScratch(const CholeskySymbolic& sym);
 
-    std::vector<std::uint32_t> position;
-    std::vector<std::uint32_t> relative;
-    std::vector<double> block;
-    // Each written before it is read.
+    UnzeroedPooledVector<std::uint32_t> position;
+    UnzeroedPooledVector<std::uint32_t> relative;
+    UnzeroedPooledVector<double> block;
     UnzeroedPooledVector<double> front;
     UnzeroedPooledVector<double> panel;
 };
@@ -73,7 +73,8 @@ public:
     // Whether the last analyze or factorize stopped for the flag.
     bool stopped() const { return stopped_; }
 
-    // Bytes held: the factor's values, the analysis and the scratch.
+    // Bytes held: the factor's values and the analysis (the factorization's
+    // scratch is given back when it returns).
     std::size_t memory_bytes() const;
 
     bool is_factored() const { return factored_; }
@@ -100,7 +101,6 @@ private:
     CholeskySymbolic symbolic_;
     CholeskySchedule schedule_;            // for the thread count of the last factorize
     UnzeroedPooledVector<double> values_;  // every block written by the factorization
-    std::vector<CholeskyScratch> scratch_;
     CholeskyTimes times_;
     const std::atomic<bool>* stop_ = nullptr;
     bool stopped_ = false;
