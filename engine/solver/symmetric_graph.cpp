@@ -6,19 +6,27 @@ namespace dfm::solver {
 
 namespace {
 
-// Walks the entries row by row; in a symmetric pattern the rows holding
-// column c, met in ascending order, are exactly row c's columns in order, so
-// a cursor per row finds every twin without searching.
+// Walks the rows in order; in a symmetric pattern the rows below the
+// diagonal that hold column c, met in ascending order, are exactly row c's
+// columns right of the diagonal, in order. A cursor per row, set when the
+// walk passes that row's diagonal, finds every twin without searching, and
+// only the entries below the diagonal are looked up.
 bool match_twins(const CsrMatrix& a) {
     if (a.rows != a.cols) return false;
-    std::vector<std::size_t> cursor(a.row_offsets.begin(), a.row_offsets.end() - 1);
+    std::vector<std::size_t> cursor(a.rows);
     for (std::size_t r = 0; r < a.rows; ++r) {
-        for (std::size_t p = a.row_offsets[r]; p < a.row_offsets[r + 1]; ++p) {
+        std::size_t p = a.row_offsets[r];
+        const std::size_t end = a.row_offsets[r + 1];
+        for (; p < end && a.col_indices[p] < r; ++p) {
             const std::uint32_t c = a.col_indices[p];
             const std::size_t q = cursor[c]++;
             if (q >= a.row_offsets[c + 1] || a.col_indices[q] != r) return false;
         }
+        cursor[r] = p < end && a.col_indices[p] == r ? p + 1 : p;
     }
+    // Every entry right of a diagonal matched one below it.
+    for (std::size_t r = 0; r < a.rows; ++r)
+        if (cursor[r] != a.row_offsets[r + 1]) return false;
     return true;
 }
 

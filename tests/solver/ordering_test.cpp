@@ -1,6 +1,9 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <random>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "solver/cholesky_symbolic.hpp"
@@ -132,6 +135,41 @@ TEST_CASE("solver: symmetric_graph symmetrises the pattern and drops the diagona
     CHECK(std::vector<std::uint32_t>(g.of(3).begin(), g.of(3).end()) ==
           std::vector<std::uint32_t>{0});
     CHECK(has_symmetric_pattern(dfm::test::random_spd(50, 5, 2)));
+}
+
+TEST_CASE("solver: has_symmetric_pattern finds every entry without its twin") {
+    std::mt19937 rng(17);
+    std::size_t asymmetric = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        const std::size_t n = rng() % 12 + 1;
+        // A symmetric pattern, with or without diagonal entries, then on most
+        // trials one entry added or removed on one side only.
+        std::set<std::pair<std::uint32_t, std::uint32_t>> entries;
+        for (std::size_t k = rng() % (2 * n * n / 3 + 1); k > 0; --k) {
+            const auto i = static_cast<std::uint32_t>(rng() % n);
+            const auto j = static_cast<std::uint32_t>(rng() % n);
+            entries.insert({i, j});
+            entries.insert({j, i});
+        }
+        if (rng() % 4 != 0) {
+            const std::pair<std::uint32_t, std::uint32_t> e{static_cast<std::uint32_t>(rng() % n),
+                                                            static_cast<std::uint32_t>(rng() % n)};
+            if (entries.count(e) != 0) {
+                entries.erase(e);
+            } else {
+                entries.insert(e);
+            }
+        }
+        std::vector<Triplet> triplets;
+        for (const auto& [i, j] : entries) triplets.push_back({i, j, 1.0});
+        const CsrMatrix a = csr_from_triplets(n, n, triplets);
+        bool symmetric = true;
+        for (const auto& [i, j] : entries) symmetric = symmetric && entries.count({j, i}) != 0;
+        CAPTURE(n);
+        CHECK(has_symmetric_pattern(a) == symmetric);
+        asymmetric += symmetric ? 0 : 1;
+    }
+    CHECK(asymmetric > 50);
 }
 
 TEST_CASE("solver: elimination tree and column counts match a dense symbolic factorization") {
