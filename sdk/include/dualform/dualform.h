@@ -572,8 +572,9 @@ DFM_API dfm_result dfm_session_get_handle_count(const dfm_session* session, size
  * (dfm_mesh_get_memory). */
 typedef struct dfm_session_memory {
     /* The complete factor L of the normal matrix: its values, indices,
-     * ordering and analysis, and the factorization's scratch (with the
-     * default preconditioner; the chosen preconditioner's arrays otherwise). */
+     * ordering and analysis (with the default preconditioner; the chosen
+     * preconditioner's arrays otherwise). The factorization's scratch is
+     * given back when it ends. */
     size_t factor;
     /* The normal matrix N, the rows it is assembled from (with the fitted
      * rotations, only their faces once the set-up ends), the rigidity
