@@ -17,8 +17,9 @@ inline constexpr std::uint32_t no_parent = std::numeric_limits<std::uint32_t>::m
 // The pattern of P A Pᵀ by columns, for a symmetric pattern: column j holds
 // the rows of the entries of A's row perm[j], renumbered: first those on or
 // below the diagonal (up to lower_end[j]), then those above; source[e] is
-// entry e's position in A (which check_cholesky_pattern limits to 32 bits). Built in one pass over
-// A, so that the symbolic analysis then reads memory in order.
+// entry e's position in A (which check_cholesky_pattern limits to 32
+// bits). Built in one pass over A, so that the symbolic analysis then
+// reads memory in order.
 struct PermutedColumns {
     PooledVector<std::size_t> begin{0};
     PooledVector<std::size_t> lower_end;

@@ -74,11 +74,12 @@ void apply_updates(const CholeskySymbolic& sym, std::span<const double> l_values
             if (lo == hi) continue;
         }
         const std::size_t height = hi - lo;
-        const std::size_t width = update.last - update.first;
         const std::size_t offset = lo - update.first;
         // d's rows below its diagonal block are stored row by row; the
-        // product reads them by column, gathered into the scratch.
+        // product reads them by column, gathered into the scratch. Columns
+        // of s from the gathered rows' end on have no entries in range.
         const std::size_t gathered = hi - update.first;
+        const std::size_t width = std::min<std::size_t>(update.last - update.first, gathered);
         double* panel = scratch.panel.data();
         dense::transpose(gathered, wd,
                          &l_values[sym.value_begin[d]] + wd * wd + (update.first - wd) * wd, wd,

@@ -574,7 +574,8 @@ typedef struct dfm_session_memory {
     /* The complete factor L of the normal matrix: its values, indices,
      * ordering and analysis (with the default preconditioner; the chosen
      * preconditioner's arrays otherwise). The factorization's scratch is
-     * given back when it ends. */
+     * not counted: it returns to the library's buffer pool when the
+     * factorization ends. */
     size_t factor;
     /* The normal matrix N, the rows it is assembled from (with the fitted
      * rotations, only their faces once the set-up ends), the rigidity
