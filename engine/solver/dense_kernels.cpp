@@ -5,12 +5,13 @@
 
 #include "core/cpu_features.hpp"
 
-// Every kernel is also compiled for AVX2, and the product for AVX-512, and
-// picked at run time where the processor has them: wider vectors, the same
-// multiplications and additions in the same order (no fused multiply–add:
-// the library builds with -ffp-contract=off), so the same bits. The choice is
-// an ordinary branch rather than an ifunc, which sanitizers' start-up code
-// does not survive.
+// The arithmetic kernels are also compiled for AVX2, and the product and the
+// triangular solve for AVX-512, and picked at run time where the processor
+// has them: wider vectors, the same multiplications and additions in the
+// same order (no fused multiply–add: the library builds with
+// -ffp-contract=off), so the same bits. The transpose, which only moves
+// values, has an AVX-512 build alone. The choice is an ordinary branch
+// rather than an ifunc, which sanitizers' start-up code does not survive.
 #if DFM_X86_DISPATCH
 #include <immintrin.h>
 #define DFM_TARGET_AVX2 __attribute__((target("avx2")))
