@@ -150,10 +150,11 @@ Status lay_out_supernodes(const PermutedColumns& pattern, CholeskySymbolic& out)
         }
         std::sort(list.begin() + (end - first), list.end());
         const std::size_t m = list.size();
-        if (m * (end - first) > std::numeric_limits<std::uint32_t>::max())
+        const std::size_t w = end - first;
+        if (m * w > std::numeric_limits<std::uint32_t>::max())
             return {Errc::invalid_argument, "Cholesky: supernode " + std::to_string(s) +
                                                 " would hold " + std::to_string(m) + "×" +
-                                                std::to_string(end - first) +
+                                                std::to_string(w) +
                                                 " values, more than 4294967295"};
         for (std::size_t t = 0; t < m; ++t) position[list[t]] = static_cast<std::uint32_t>(t);
         // Column c of P A Pᵀ is read from row perm[c] of A, A being symmetric.
@@ -167,12 +168,12 @@ Status lay_out_supernodes(const PermutedColumns& pattern, CholeskySymbolic& out)
         out.entry_begin.push_back(out.entry_source.size());
         out.rows.insert(out.rows.end(), list.begin(), list.end());
         out.row_begin.push_back(out.rows.size());
-        out.value_begin.push_back(out.value_begin.back() + m * (end - first));
+        out.value_begin.push_back(out.value_begin.back() + m * w);
         out.max_rows = std::max(out.max_rows, m);
-        out.max_supernode_values = std::max(out.max_supernode_values, m * (end - first));
-        out.max_below_values = std::max(out.max_below_values, (m - (end - first)) * (end - first));
+        out.max_supernode_values = std::max(out.max_supernode_values, m * w);
+        out.max_below_values = std::max(out.max_below_values, (m - w) * w);
         double work = 0.0;
-        for (std::size_t c = 0; c < end - first; ++c) {
+        for (std::size_t c = 0; c < w; ++c) {
             const double below = static_cast<double>(m - c);
             work += below * below;
         }
