@@ -21,8 +21,8 @@ constexpr Index flip(Index j) {
 // SIAM J. Matrix Anal. Appl. 17(4), 1996). Variables are the graph's
 // vertices; eliminating a pivot turns it into an element whose variable list
 // stands for the clique it creates. Each variable's list in `memory_` holds
-// first its adjacent elements (elements_[i] of them), then its adjacent
-// variables. size_[i] is the number of vertices supervariable i stands for.
+// first its adjacent elements (node_[i].elements of them), then its adjacent
+// variables. node_[i].size is the number of vertices supervariable i stands for.
 // Number n is an extra element that collects dense rows, ordered last.
 // Positions and numbers are kept in the signed type Index, 32-bit where
 // the lists fit: the elimination waits on memory, and halving its working
@@ -42,22 +42,15 @@ public:
     MinimumDegree(const SymmetricGraph& graph, std::span<const std::uint32_t> constraints)
         : n_(static_cast<Index>(graph.size())),
           constraints_(constraints),
-          pointer_(static_cast<std::size_t>(n_) + 1),
-          length_(static_cast<std::size_t>(n_) + 1, 0),
-          size_(static_cast<std::size_t>(n_) + 1, 1),
-          next_(static_cast<std::size_t>(n_) + 1, none),
-          last_(static_cast<std::size_t>(n_) + 1, none),
+          node_(static_cast<std::size_t>(n_) + 1, Node{}),
           head_(static_cast<std::size_t>(n_) + 1, none),
-          elements_(static_cast<std::size_t>(n_) + 1, 0),
-          degree_(static_cast<std::size_t>(n_) + 1, 0),
-          stamp_(static_cast<std::size_t>(n_) + 1, 1),
           hash_head_(static_cast<std::size_t>(n_) + 1, none) {
         memory_.resize(memory_size(graph.size(), graph.neighbors.size()));
         const std::size_t edges = graph.neighbors.size();
         for (Index i = 0; i < n_; ++i) {
-            pointer_[at(i)] = static_cast<Index>(graph.offsets[at(i)]);
-            length_[at(i)] = static_cast<Index>(graph.degree(static_cast<std::uint32_t>(i)));
-            degree_[at(i)] = length_[at(i)];
+            node_[at(i)].pointer = static_cast<Index>(graph.offsets[at(i)]);
+            node_[at(i)].length = static_cast<Index>(graph.degree(static_cast<std::uint32_t>(i)));
+            node_[at(i)].degree = node_[at(i)].length;
         }
         for (std::size_t p = 0; p < edges; ++p) memory_[p] = graph.neighbors[p];
         used_ = static_cast<Index>(edges);
@@ -82,22 +75,22 @@ public:
     std::vector<std::uint32_t> run() {
         if (n_ == 0) return {};
         mark_ = clear_marks(0, 0);
-        elements_[at(n_)] = -2;
-        pointer_[at(n_)] = none;
-        stamp_[at(n_)] = 0;
+        node_[at(n_)].elements = -2;
+        node_[at(n_)].pointer = none;
+        node_[at(n_)].stamp = 0;
         for (Index i = 0; i < n_; ++i) {
-            const Index d = degree_[at(i)];
+            const Index d = node_[at(i)].degree;
             if (d == 0) {
-                elements_[at(i)] = -2;  // an empty variable is an element at once
+                node_[at(i)].elements = -2;  // an empty variable is an element at once
                 ++eliminated_;
-                pointer_[at(i)] = none;
-                stamp_[at(i)] = 0;
+                node_[at(i)].pointer = none;
+                node_[at(i)].stamp = 0;
             } else if (d > dense_) {
-                size_[at(i)] = 0;  // dense: absorbed into element n
-                elements_[at(i)] = -1;
+                node_[at(i)].size = 0;  // dense: absorbed into element n
+                node_[at(i)].elements = -1;
                 ++eliminated_;
-                pointer_[at(i)] = flip(n_);
-                ++size_[at(n_)];
+                node_[at(i)].pointer = flip(n_);
+                ++node_[at(n_)].size;
             } else if (selectable(i)) {
                 insert_degree_list(i, d);
             }
@@ -133,37 +126,37 @@ private:
             ++current_set_;
             for (std::size_t p = set_begin_[current_set_]; p < set_begin_[current_set_ + 1]; ++p) {
                 const Index i = set_members_[p];
-                if (size_[at(i)] <= 0 || elements_[at(i)] < 0) continue;
-                insert_degree_list(i, degree_[at(i)]);
-                min_degree_ = std::min(min_degree_, degree_[at(i)]);
+                if (node_[at(i)].size <= 0 || node_[at(i)].elements < 0) continue;
+                insert_degree_list(i, node_[at(i)].degree);
+                min_degree_ = std::min(min_degree_, node_[at(i)].degree);
             }
         }
     }
 
     void insert_degree_list(Index i, Index d) {
-        if (head_[at(d)] != none) last_[at(head_[at(d)])] = i;
-        next_[at(i)] = head_[at(d)];
-        last_[at(i)] = none;
+        if (head_[at(d)] != none) node_[at(head_[at(d)])].last = i;
+        node_[at(i)].next = head_[at(d)];
+        node_[at(i)].last = none;
         head_[at(d)] = i;
     }
 
     void remove_degree_list(Index i) {
-        if (next_[at(i)] != none) last_[at(next_[at(i)])] = last_[at(i)];
-        if (last_[at(i)] != none) {
-            next_[at(last_[at(i)])] = next_[at(i)];
+        if (node_[at(i)].next != none) node_[at(node_[at(i)].next)].last = node_[at(i)].last;
+        if (node_[at(i)].last != none) {
+            node_[at(node_[at(i)].last)].next = node_[at(i)].next;
         } else {
-            head_[at(degree_[at(i)])] = next_[at(i)];
+            head_[at(node_[at(i)].degree)] = node_[at(i)].next;
         }
     }
 
-    // stamp_[e] ≥ mark_ means element e was seen in the current step (its
+    // node_[e].stamp ≥ mark_ means element e was seen in the current step (its
     // value then encodes |Le \ Lk|); 0 marks a dead element. Renumbers the
     // stamps when those of a step (up to `largest` above the mark) would
     // not fit in Index, and returns the mark to use next.
     Index clear_marks(Index mark, Index largest) {
         if (mark < 2 || mark > std::numeric_limits<Index>::max() - largest) {
             for (Index k = 0; k < n_; ++k)
-                if (stamp_[at(k)] != 0) stamp_[at(k)] = 1;
+                if (node_[at(k)].stamp != 0) node_[at(k)].stamp = 1;
             mark = 2;
         }
         return mark;
@@ -176,33 +169,33 @@ private:
             open_next_set();
             while ((k = head_[at(min_degree_)]) == none) ++min_degree_;
         }
-        if (next_[at(k)] != none) last_[at(next_[at(k)])] = none;
-        head_[at(min_degree_)] = next_[at(k)];
+        if (node_[at(k)].next != none) node_[at(node_[at(k)].next)].last = none;
+        head_[at(min_degree_)] = node_[at(k)].next;
         return k;
     }
 
     // Packs every live list to the front of memory_.
     void compact() {
         for (Index j = 0; j < n_; ++j) {
-            const Index p = pointer_[at(j)];
+            const Index p = node_[at(j)].pointer;
             if (p < 0) continue;
-            pointer_[at(j)] = memory_[at(p)];  // first entry kept aside
-            memory_[at(p)] = flip(j);          // list start tagged with its owner
+            node_[at(j)].pointer = memory_[at(p)];  // first entry kept aside
+            memory_[at(p)] = flip(j);               // list start tagged with its owner
         }
         Index q = 0;
         for (Index p = 0; p < used_;) {
             const Index j = flip(memory_[at(p++)]);
             if (j < 0) continue;
-            memory_[at(q)] = pointer_[at(j)];
-            pointer_[at(j)] = q++;
-            for (Index t = 0; t < length_[at(j)] - 1; ++t) memory_[at(q++)] = memory_[at(p++)];
+            memory_[at(q)] = node_[at(j)].pointer;
+            node_[at(j)].pointer = q++;
+            for (Index t = 0; t < node_[at(j)].length - 1; ++t) memory_[at(q++)] = memory_[at(p++)];
         }
         used_ = q;
     }
 
     void eliminate(Index k) {
-        const Index k_elements = elements_[at(k)];
-        Index k_size = size_[at(k)];
+        const Index k_elements = node_[at(k)].elements;
+        Index k_size = node_[at(k)].size;
         eliminated_ += k_size;
         if (k_elements > 0 && used_ + min_degree_ >= static_cast<Index>(memory_.size())) compact();
 
@@ -210,8 +203,8 @@ private:
         // adjacent to k, which k absorbs. Members are flagged by a negated
         // size and leave the degree lists.
         Index degree_k = 0;
-        size_[at(k)] = -k_size;
-        Index p = pointer_[at(k)];
+        node_[at(k)].size = -k_size;
+        Index p = node_[at(k)].pointer;
         const Index lk_begin = k_elements == 0 ? p : used_;
         Index lk_end = lk_begin;
         for (Index source = 1; source <= k_elements + 1; ++source) {
@@ -221,47 +214,47 @@ private:
             if (source > k_elements) {
                 e = k;
                 pj = p;
-                count = length_[at(k)] - k_elements;
+                count = node_[at(k)].length - k_elements;
             } else {
                 e = memory_[at(p++)];
-                pj = pointer_[at(e)];
-                count = length_[at(e)];
+                pj = node_[at(e)].pointer;
+                count = node_[at(e)].length;
             }
             for (Index t = 0; t < count; ++t) {
                 const Index i = memory_[at(pj++)];
-                const Index size_i = size_[at(i)];
+                const Index size_i = node_[at(i)].size;
                 if (size_i <= 0) continue;
                 degree_k += size_i;
-                size_[at(i)] = -size_i;
+                node_[at(i)].size = -size_i;
                 memory_[at(lk_end++)] = i;
                 if (selectable(i)) remove_degree_list(i);
             }
             if (e != k) {
-                pointer_[at(e)] = flip(k);
-                stamp_[at(e)] = 0;
+                node_[at(e)].pointer = flip(k);
+                node_[at(e)].stamp = 0;
             }
         }
         if (k_elements != 0) used_ = lk_end;
-        degree_[at(k)] = degree_k;
-        pointer_[at(k)] = lk_begin;
-        length_[at(k)] = lk_end - lk_begin;
-        elements_[at(k)] = -2;
+        node_[at(k)].degree = degree_k;
+        node_[at(k)].pointer = lk_begin;
+        node_[at(k)].length = lk_end - lk_begin;
+        node_[at(k)].elements = -2;
 
         // |Le \ Lk| for every element e adjacent to a variable of Lk, as
-        // stamp_[e] − mark_.
+        // node_[e].stamp − mark_.
         mark_ = clear_marks(mark_, largest_element_);
         for (Index pk = lk_begin; pk < lk_end; ++pk) {
             const Index i = memory_[at(pk)];
-            const Index i_elements = elements_[at(i)];
+            const Index i_elements = node_[at(i)].elements;
             if (i_elements <= 0) continue;
-            const Index size_i = -size_[at(i)];
+            const Index size_i = -node_[at(i)].size;
             const Index first_visit = mark_ - size_i;
-            for (Index q = pointer_[at(i)]; q < pointer_[at(i)] + i_elements; ++q) {
+            for (Index q = node_[at(i)].pointer; q < node_[at(i)].pointer + i_elements; ++q) {
                 const Index e = memory_[at(q)];
-                if (stamp_[at(e)] >= mark_) {
-                    stamp_[at(e)] -= size_i;
-                } else if (stamp_[at(e)] != 0) {
-                    stamp_[at(e)] = degree_[at(e)] + first_visit;
+                if (node_[at(e)].stamp >= mark_) {
+                    node_[at(e)].stamp -= size_i;
+                } else if (node_[at(e)].stamp != 0) {
+                    node_[at(e)].stamp = node_[at(e)].degree + first_visit;
                 }
             }
         }
@@ -271,57 +264,57 @@ private:
         // with k (mass elimination), the rest hashed for supervariables.
         for (Index pk = lk_begin; pk < lk_end; ++pk) {
             const Index i = memory_[at(pk)];
-            const Index p1 = pointer_[at(i)];
-            const Index p2 = p1 + elements_[at(i)] - 1;
+            const Index p1 = node_[at(i)].pointer;
+            const Index p2 = p1 + node_[at(i)].elements - 1;
             Index pn = p1;
             Index d = 0;
             std::uint64_t hash = 0;
             for (Index q = p1; q <= p2; ++q) {
                 const Index e = memory_[at(q)];
-                if (stamp_[at(e)] == 0) continue;
-                const Index outside = stamp_[at(e)] - mark_;
+                if (node_[at(e)].stamp == 0) continue;
+                const Index outside = node_[at(e)].stamp - mark_;
                 if (outside > 0) {
                     d += outside;
                     memory_[at(pn++)] = e;
                     hash += static_cast<std::uint64_t>(e);
                 } else {
-                    pointer_[at(e)] = flip(k);
-                    stamp_[at(e)] = 0;
+                    node_[at(e)].pointer = flip(k);
+                    node_[at(e)].stamp = 0;
                 }
             }
-            elements_[at(i)] = pn - p1 + 1;
+            node_[at(i)].elements = pn - p1 + 1;
             const Index p3 = pn;
-            const Index p4 = p1 + length_[at(i)];
+            const Index p4 = p1 + node_[at(i)].length;
             for (Index q = p2 + 1; q < p4; ++q) {
                 const Index j = memory_[at(q)];
-                const Index size_j = size_[at(j)];
+                const Index size_j = node_[at(j)].size;
                 if (size_j <= 0) continue;
                 d += size_j;
                 memory_[at(pn++)] = j;
                 hash += static_cast<std::uint64_t>(j);
             }
             if (d == 0 && same_set(i, k)) {
-                pointer_[at(i)] = flip(k);
-                const Index size_i = -size_[at(i)];
+                node_[at(i)].pointer = flip(k);
+                const Index size_i = -node_[at(i)].size;
                 degree_k -= size_i;
                 k_size += size_i;
                 eliminated_ += size_i;
-                size_[at(i)] = 0;
-                elements_[at(i)] = -1;
+                node_[at(i)].size = 0;
+                node_[at(i)].elements = -1;
             } else {
-                degree_[at(i)] = std::min(degree_[at(i)], d);
+                node_[at(i)].degree = std::min(node_[at(i)].degree, d);
                 // k becomes i's first element.
                 memory_[at(pn)] = memory_[at(p3)];
                 memory_[at(p3)] = memory_[at(p1)];
                 memory_[at(p1)] = k;
-                length_[at(i)] = pn - p1 + 1;
+                node_[at(i)].length = pn - p1 + 1;
                 const Index bucket = static_cast<Index>(hash % static_cast<std::uint64_t>(n_));
-                next_[at(i)] = hash_head_[at(bucket)];
+                node_[at(i)].next = hash_head_[at(bucket)];
                 hash_head_[at(bucket)] = i;
-                last_[at(i)] = bucket;
+                node_[at(i)].last = bucket;
             }
         }
-        degree_[at(k)] = degree_k;
+        node_[at(k)].degree = degree_k;
         largest_element_ = std::max(largest_element_, degree_k);
         const bool room = mark_ <= std::numeric_limits<Index>::max() - 2 * largest_element_;
         mark_ = clear_marks(room ? mark_ + largest_element_ : 0, largest_element_);
@@ -332,23 +325,23 @@ private:
         Index write = lk_begin;
         for (Index pk = lk_begin; pk < lk_end; ++pk) {
             const Index i = memory_[at(pk)];
-            const Index size_i = -size_[at(i)];
+            const Index size_i = -node_[at(i)].size;
             if (size_i <= 0) continue;
-            size_[at(i)] = size_i;
-            Index d = degree_[at(i)] + degree_k - size_i;
+            node_[at(i)].size = size_i;
+            Index d = node_[at(i)].degree + degree_k - size_i;
             d = std::min(d, n_ - eliminated_ - size_i);
-            degree_[at(i)] = d;
+            node_[at(i)].degree = d;
             if (selectable(i)) {
                 insert_degree_list(i, d);
                 min_degree_ = std::min(min_degree_, d);
             }
             memory_[at(write++)] = i;
         }
-        size_[at(k)] = k_size;
-        length_[at(k)] = write - lk_begin;
-        if (length_[at(k)] == 0) {
-            pointer_[at(k)] = none;
-            stamp_[at(k)] = 0;
+        node_[at(k)].size = k_size;
+        node_[at(k)].length = write - lk_begin;
+        if (node_[at(k)].length == 0) {
+            node_[at(k)].pointer = none;
+            node_[at(k)].stamp = 0;
         }
         if (k_elements != 0) used_ = write;
     }
@@ -358,30 +351,32 @@ private:
     void detect_supervariables(Index lk_begin, Index lk_end) {
         for (Index pk = lk_begin; pk < lk_end; ++pk) {
             Index i = memory_[at(pk)];
-            if (size_[at(i)] >= 0) continue;
-            const Index bucket = last_[at(i)];
+            if (node_[at(i)].size >= 0) continue;
+            const Index bucket = node_[at(i)].last;
             i = hash_head_[at(bucket)];
             hash_head_[at(bucket)] = none;
-            for (; i != none && next_[at(i)] != none; i = next_[at(i)], ++mark_) {
-                const Index len = length_[at(i)];
-                const Index elen = elements_[at(i)];
-                for (Index q = pointer_[at(i)] + 1; q <= pointer_[at(i)] + len - 1; ++q)
-                    stamp_[at(memory_[at(q)])] = mark_;
+            for (; i != none && node_[at(i)].next != none; i = node_[at(i)].next, ++mark_) {
+                const Index len = node_[at(i)].length;
+                const Index elen = node_[at(i)].elements;
+                for (Index q = node_[at(i)].pointer + 1; q <= node_[at(i)].pointer + len - 1; ++q)
+                    node_[at(memory_[at(q)])].stamp = mark_;
                 Index j_last = i;
-                for (Index j = next_[at(i)]; j != none;) {
-                    bool same = length_[at(j)] == len && elements_[at(j)] == elen && same_set(i, j);
-                    for (Index q = pointer_[at(j)] + 1; same && q <= pointer_[at(j)] + len - 1; ++q)
-                        same = stamp_[at(memory_[at(q)])] == mark_;
+                for (Index j = node_[at(i)].next; j != none;) {
+                    bool same = node_[at(j)].length == len && node_[at(j)].elements == elen &&
+                                same_set(i, j);
+                    for (Index q = node_[at(j)].pointer + 1;
+                         same && q <= node_[at(j)].pointer + len - 1; ++q)
+                        same = node_[at(memory_[at(q)])].stamp == mark_;
                     if (same) {
-                        pointer_[at(j)] = flip(i);
-                        size_[at(i)] += size_[at(j)];
-                        size_[at(j)] = 0;
-                        elements_[at(j)] = -1;
-                        j = next_[at(j)];
-                        next_[at(j_last)] = j;
+                        node_[at(j)].pointer = flip(i);
+                        node_[at(i)].size += node_[at(j)].size;
+                        node_[at(j)].size = 0;
+                        node_[at(j)].elements = -1;
+                        j = node_[at(j)].next;
+                        node_[at(j_last)].next = j;
                     } else {
                         j_last = j;
-                        j = next_[at(j)];
+                        j = node_[at(j)].next;
                     }
                 }
             }
@@ -391,23 +386,23 @@ private:
     // Orders by a postorder of the assembly tree: absorbed variables just
     // before the element that absorbed them.
     std::vector<std::uint32_t> postorder() {
-        for (Index i = 0; i < n_; ++i) pointer_[at(i)] = flip(pointer_[at(i)]);
+        for (Index i = 0; i < n_; ++i) node_[at(i)].pointer = flip(node_[at(i)].pointer);
         std::fill(head_.begin(), head_.end(), none);
         for (Index j = n_; j >= 0; --j) {
-            if (size_[at(j)] > 0) continue;
-            next_[at(j)] = head_[at(pointer_[at(j)])];
-            head_[at(pointer_[at(j)])] = j;
+            if (node_[at(j)].size > 0) continue;
+            node_[at(j)].next = head_[at(node_[at(j)].pointer)];
+            head_[at(node_[at(j)].pointer)] = j;
         }
         for (Index e = n_; e >= 0; --e) {
-            if (size_[at(e)] <= 0 || pointer_[at(e)] == none) continue;
-            next_[at(e)] = head_[at(pointer_[at(e)])];
-            head_[at(pointer_[at(e)])] = e;
+            if (node_[at(e)].size <= 0 || node_[at(e)].pointer == none) continue;
+            node_[at(e)].next = head_[at(node_[at(e)].pointer)];
+            head_[at(node_[at(e)].pointer)] = e;
         }
         std::vector<std::uint32_t> order;
         order.reserve(at(n_) + 1);
         std::vector<Index> stack;
         for (Index root = 0; root <= n_; ++root) {
-            if (pointer_[at(root)] != none) continue;
+            if (node_[at(root)].pointer != none) continue;
             stack.push_back(root);
             while (!stack.empty()) {
                 const Index p = stack.back();
@@ -416,7 +411,7 @@ private:
                     stack.pop_back();
                     if (p < n_) order.push_back(static_cast<std::uint32_t>(p));
                 } else {
-                    head_[at(p)] = next_[at(child)];
+                    head_[at(p)] = node_[at(child)].next;
                     stack.push_back(child);
                 }
             }
@@ -429,15 +424,22 @@ private:
     PooledVector<std::size_t> set_begin_;
     PooledVector<Index> set_members_;
     std::uint32_t current_set_ = 0;
-    PooledVector<Index> pointer_;
-    PooledVector<Index> length_;
-    PooledVector<Index> size_;
-    PooledVector<Index> next_;
-    PooledVector<Index> last_;
+    // A node's (a variable's or an element's) fields side by side: a step
+    // reads and writes several of them for the same node, which then share
+    // a cache line where nine arrays took one each (at 104k vertices the
+    // ordering took 75-90 ms with the arrays, 66-70 with the nodes).
+    struct Node {
+        Index pointer = 0;
+        Index length = 0;
+        Index size = 1;
+        Index next = none;
+        Index last = none;
+        Index elements = 0;
+        Index degree = 0;
+        Index stamp = 1;
+    };
+    PooledVector<Node> node_;
     PooledVector<Index> head_;
-    PooledVector<Index> elements_;
-    PooledVector<Index> degree_;
-    PooledVector<Index> stamp_;
     PooledVector<Index> hash_head_;
     PooledVector<Index> memory_;
     Index used_ = 0;
