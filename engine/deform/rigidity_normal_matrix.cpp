@@ -68,10 +68,11 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
         for (std::uint32_t q = offsets[i]; q < offsets[i + 1]; ++q) {
             if (q + prefetch_distance < uses.size()) {
                 const RigidityStencil& ahead = stencils_[uses[q + prefetch_distance].stencil];
-                __builtin_prefetch(&ahead.unknown);
-                __builtin_prefetch(&ahead.dual[slots - 1]);
-                __builtin_prefetch(&ahead.pair_slot);
-                __builtin_prefetch(&ahead.pair_weight2[RigidityStencil::pairs - 1]);
+                const auto* last = reinterpret_cast<const char*>(&ahead.pair_count);
+                for (const auto* at = reinterpret_cast<const char*>(&ahead.unknown); at < last;
+                     at += 64)
+                    __builtin_prefetch(at);
+                __builtin_prefetch(last);
             }
             const RigidityStencil& s = stencils_[uses[q].stencil];
             const double a = s.dual[uses[q].slot];

@@ -36,16 +36,19 @@ struct RigidityStencil {
     static constexpr std::size_t slots = 6;  // a dual row's vertices: f's and the three opposite
     static constexpr std::size_t pairs = 6;  // rigidity rows per dual row: 3 dual, 3 face edges
 
+    // What the assembly of N reads comes first and together (unknown to
+    // pair_count), so that each of a stencil's several reads there, out of
+    // order, takes as few cache lines as the fields allow.
     std::array<std::uint32_t, slots> vertex{};
-    std::array<std::uint32_t, slots> unknown{};                  // no_index: fixed, or unused
-    std::array<double, slots> dual{};                            // the dual row's coefficients
-    std::array<std::array<double, slots>, 3> pulled{};           // G_i of the rigidity rows alone
+    std::array<std::uint32_t, slots> unknown{};  // no_index: fixed, or unused
+    std::array<double, slots> dual{};            // the dual row's coefficients
+    std::array<double, pairs> pair_weight2{};    // (w s)²: A_k p = w s (v_c − v_d)
     std::array<std::array<std::uint8_t, 2>, pairs> pair_slot{};  // the slots of v_c, v_d
-    std::uint8_t pair_count = 0;               // the rows in use, in their order in A
-    std::array<double, pairs> pair_weight2{};  // (w s)²: A_k p = w s (v_c − v_d)
-    glm::dvec3 rest_dual{0.0};                 // l_f at rest
-    double rest_dual2 = 0.0;                   // |l_f|² at rest
-    double pair_target2 = 0.0;                 // Σ_k |g_k|² over the rigidity rows
+    std::uint8_t pair_count = 0;                        // the rows in use, in their order in A
+    std::array<std::array<double, slots>, 3> pulled{};  // G_i of the rigidity rows alone
+    glm::dvec3 rest_dual{0.0};                          // l_f at rest
+    double rest_dual2 = 0.0;                            // |l_f|² at rest
+    double pair_target2 = 0.0;                          // Σ_k |g_k|² over the rigidity rows
 };
 
 class RotationFrames {
