@@ -134,6 +134,12 @@ std::uint32_t factor_supernode(const CholeskySymbolic& sym, std::span<const doub
     const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
     double* front = scratch.front.data();
     assemble_supernode(sym, a_values, front, s, scratch.position);
+    // A's entries of the next supernode, which this thread most often
+    // takes next: they sit in A's rows in the ordering's order, anywhere,
+    // and arrive while this one's updates run.
+    if (s + 2 < sym.entry_begin.size())
+        for (std::size_t e = sym.entry_begin[s + 1]; e < sym.entry_begin[s + 2]; ++e)
+            __builtin_prefetch(&a_values[sym.entry_source[e]]);
     apply_updates(sym, l_values, s, front, scratch.position, 0, m, scratch);
     const std::size_t done = dense::factor_panel(m, w, front, m);
     if (done < w) return sym.column_begin[s] + static_cast<std::uint32_t>(done);
