@@ -24,7 +24,8 @@ PermutedColumns permuted_columns(const CsrMatrix& a, std::span<const std::uint32
         if (j + 2 * row_prefetch_distance < a.rows)
             __builtin_prefetch(&a.row_offsets[perm[j + 2 * row_prefetch_distance]]);
         if (j + row_prefetch_distance < a.rows)
-            __builtin_prefetch(&a.col_indices[a.row_offsets[perm[j + row_prefetch_distance]]]);
+            __builtin_prefetch(a.col_indices.data() +
+                               a.row_offsets[perm[j + row_prefetch_distance]]);
         const std::uint32_t r = perm[j];
         const std::size_t column_end = column_begin + (a.row_offsets[r + 1] - a.row_offsets[r]);
         // Lower entries fill the column from the front, upper ones from the
