@@ -426,7 +426,7 @@ private:
     std::uint32_t current_set_ = 0;
     // A node's (a variable's or an element's) fields side by side: a step
     // reads and writes several of them for the same node, which then share
-    // a cache line where nine arrays took one each (at 104k vertices the
+    // a cache line where eight arrays took one each (at 104k vertices the
     // ordering took 75-90 ms with the arrays, 66-70 with the nodes).
     struct Node {
         Index pointer = 0;
