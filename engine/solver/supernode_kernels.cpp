@@ -1,5 +1,6 @@
 #include "solver/supernode_kernels.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "core/cpu_features.hpp"
@@ -132,6 +133,33 @@ template <std::size_t C>
     }
 }
 
+// Lines fetched a few at a time as the rows below are pulled. The backward
+// solve takes the supernodes in descending order, which the hardware
+// prefetcher does not follow; fetched all at once before a supernode, the
+// next one's lines queued behind each other, and the 104k solve's
+// supernodes of 9-16 columns took 2.1-2.2 ms in the backward pass against
+// 1.5 in the forward one (1.6 spread over the rows).
+class Ahead {
+public:
+    Ahead(const char* begin, std::size_t bytes, std::size_t rows)
+        : at_(begin),
+          end_(begin + bytes),
+          per_row_((bytes / 64 + rows) / std::max<std::size_t>(rows, 1)) {}
+
+    void row() {
+        for (std::size_t line = 0; line < per_row_ && at_ < end_; ++line, at_ += 64)
+            __builtin_prefetch(at_);
+    }
+    void rest() {
+        for (; at_ < end_; at_ += 64) __builtin_prefetch(at_);
+    }
+
+private:
+    const char* at_;
+    const char* end_;
+    std::size_t per_row_;
+};
+
 // pull_rows for a supernode of at most 4 C columns, the two arrays of sums
 // in registers: through memory, each row's sums waited on the stores of the
 // row before last. Each sum takes the same products in the same order, so
@@ -139,7 +167,7 @@ template <std::size_t C>
 template <std::size_t K, std::size_t C>
 [[gnu::always_inline]] inline void pull_narrow_rows(std::size_t h, std::size_t w,
                                                     const double* below, const std::uint32_t* rows,
-                                                    const double* y, double* s) {
+                                                    const double* y, double* s, Ahead& ahead) {
     Lanes acc[2][K][C];
     for (auto& parity : acc)
         for (auto& vector : parity)
@@ -153,6 +181,8 @@ template <std::size_t K, std::size_t C>
     };
     std::size_t t = 0;
     for (; t + 1 < h; t += 2) {
+        ahead.row();
+        ahead.row();
         add_row(t, acc[0]);
         add_row(t + 1, acc[1]);
     }
@@ -178,18 +208,18 @@ template <std::size_t K, std::size_t C>
 template <std::size_t K, std::size_t max_chunks>
 [[gnu::always_inline]] inline void pull_rows(std::size_t h, std::size_t w, std::size_t k,
                                              const double* below, const std::uint32_t* rows,
-                                             const double* y, double* s) {
+                                             const double* y, double* s, Ahead& ahead) {
     if constexpr (K != 0) {
         switch ((w + 3) / 4) {
-            case 1: return pull_narrow_rows<K, 1>(h, w, below, rows, y, s);
-            case 2: return pull_narrow_rows<K, 2>(h, w, below, rows, y, s);
+            case 1: return pull_narrow_rows<K, 1>(h, w, below, rows, y, s, ahead);
+            case 2: return pull_narrow_rows<K, 2>(h, w, below, rows, y, s, ahead);
             case 3:
                 if constexpr (max_chunks >= 4)
-                    return pull_narrow_rows<K, 3>(h, w, below, rows, y, s);
+                    return pull_narrow_rows<K, 3>(h, w, below, rows, y, s, ahead);
                 break;
             case 4:
                 if constexpr (max_chunks >= 4)
-                    return pull_narrow_rows<K, 4>(h, w, below, rows, y, s);
+                    return pull_narrow_rows<K, 4>(h, w, below, rows, y, s, ahead);
                 break;
             default: break;
         }
@@ -199,6 +229,7 @@ template <std::size_t K, std::size_t max_chunks>
     for (std::size_t i = 0; i < 2 * kk * w; ++i) acc[0][i] = 0.0;
     const std::size_t w4 = w - w % 4;
     for (std::size_t t = 0; t < h; ++t) {
+        ahead.row();
         const double* row = below + t * w;
         const double* yt = y + static_cast<std::size_t>(rows[t]) * kk;
         double* a = acc[t % 2];
@@ -263,12 +294,15 @@ constexpr std::size_t prefetch_columns_ahead = 2;
 template <std::size_t K, std::size_t max_chunks>
 [[gnu::always_inline]] inline void backward_body(std::size_t m, std::size_t w, std::size_t k,
                                                  const double* l, const std::uint32_t* rows,
-                                                 double* own, const double* y, double* scratch) {
+                                                 double* own, const double* y, double* scratch,
+                                                 const char* ahead_begin, std::size_t ahead_bytes) {
     const std::size_t kk = K != 0 ? K : k;
     const std::size_t h = m - w;
     double* s = scratch;
+    Ahead ahead(ahead_begin, ahead_bytes, h);
     split_columns<K>(w, kk, own, s);
-    if (h > 0) pull_rows<K, max_chunks>(h, w, kk, l + w * w, rows, y, s);
+    if (h > 0) pull_rows<K, max_chunks>(h, w, kk, l + w * w, rows, y, s, ahead);
+    ahead.rest();
     // Column i of the diagonal block above the diagonal is row i of L left
     // of it (SparseCholesky's layout): once y_i is known, the entries before
     // it subtract their terms, all K vectors in one pass over that column.
@@ -314,15 +348,16 @@ DFM_TARGET_AVX512 void forward_avx512(std::size_t m, std::size_t w, std::size_t 
 template <std::size_t K>
 DFM_TARGET_AVX2 void backward_avx2(std::size_t m, std::size_t w, std::size_t k, const double* l,
                                    const std::uint32_t* rows, double* own, const double* y,
-                                   double* scratch) {
-    backward_body<K, 2>(m, w, k, l, rows, own, y, scratch);
+                                   double* scratch, const char* ahead, std::size_t ahead_bytes) {
+    backward_body<K, 2>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
 }
 
 template <std::size_t K>
 DFM_TARGET_AVX512 void backward_avx512(std::size_t m, std::size_t w, std::size_t k, const double* l,
                                        const std::uint32_t* rows, double* own, const double* y,
-                                       double* scratch) {
-    backward_body<K, 4>(m, w, k, l, rows, own, y, scratch);
+                                       double* scratch, const char* ahead,
+                                       std::size_t ahead_bytes) {
+    backward_body<K, 4>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
 }
 #endif
 
@@ -338,12 +373,15 @@ void forward_for(std::size_t m, std::size_t w, std::size_t push, std::size_t k, 
 
 template <std::size_t K>
 void backward_for(std::size_t m, std::size_t w, std::size_t k, const double* l,
-                  const std::uint32_t* rows, double* own, const double* y, double* scratch) {
+                  const std::uint32_t* rows, double* own, const double* y, double* scratch,
+                  const char* ahead, std::size_t ahead_bytes) {
 #if DFM_X86_DISPATCH
-    if (cpu::has_avx512vl()) return backward_avx512<K>(m, w, k, l, rows, own, y, scratch);
-    if (cpu::has_avx2()) return backward_avx2<K>(m, w, k, l, rows, own, y, scratch);
+    if (cpu::has_avx512vl())
+        return backward_avx512<K>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
+    if (cpu::has_avx2())
+        return backward_avx2<K>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
 #endif
-    backward_body<K, 2>(m, w, k, l, rows, own, y, scratch);
+    backward_body<K, 2>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
 }
 
 }  // namespace
@@ -369,12 +407,13 @@ void forward(std::size_t m, std::size_t w, std::size_t push, std::size_t k, cons
 }
 
 void backward(std::size_t m, std::size_t w, std::size_t k, const double* l,
-              const std::uint32_t* rows, double* own, const double* y, double* scratch) {
+              const std::uint32_t* rows, double* own, const double* y, double* scratch,
+              const char* ahead, std::size_t ahead_bytes) {
     switch (k) {
-        case 1: return backward_for<1>(m, w, k, l, rows, own, y, scratch);
-        case 2: return backward_for<2>(m, w, k, l, rows, own, y, scratch);
-        case 3: return backward_for<3>(m, w, k, l, rows, own, y, scratch);
-        default: return backward_for<0>(m, w, k, l, rows, own, y, scratch);
+        case 1: return backward_for<1>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
+        case 2: return backward_for<2>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
+        case 3: return backward_for<3>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
+        default: return backward_for<0>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
     }
 }
 

@@ -37,9 +37,13 @@ void forward(std::size_t m, std::size_t w, std::size_t push, std::size_t k, cons
 // y_rows[t] over the rows below, that sum accumulated row by row (so that L
 // streams in order) in two partial sums, over even and over odd t, added
 // together; then, for i descending, y_i is divided by L(i, i) and every
-// earlier own entry j subtracts L(i, j) y_i.
+// earlier own entry j subtracts L(i, j) y_i. The `ahead_bytes` from `ahead`
+// (the next supernode's values, in the backward solve) are fetched into
+// the cache while it works, a few lines with each row below and the rest
+// at its end; they change nothing else.
 void backward(std::size_t m, std::size_t w, std::size_t k, const double* l,
-              const std::uint32_t* rows, double* own, const double* y, double* scratch);
+              const std::uint32_t* rows, double* own, const double* y, double* scratch,
+              const char* ahead = nullptr, std::size_t ahead_bytes = 0);
 
 // The product of a row below with own entries held `stride` apart, the sum
 // taken as the forward solve's push takes it (the same bits).
