@@ -225,10 +225,17 @@ TEST_CASE("dualform bench: set-up, solve and a 60-frame drag, as JSON") {
     REQUIRE(r.exit_code == 0);
     const std::string json = dfm::test::read_text(json_path);
     for (const char* key : {"setup_ms", "solve_ms", "median", "p90", "drag", "frame_ms",
-                            "iterations_per_frame", "peak_rss_mib", "quality"}) {
+                            "iterations_per_frame", "peak_rss_mib", "quality", "memory_mib",
+                            "factor", "normal_matrix", "iteration", "staging", "session"}) {
         CAPTURE(key);
         CHECK(json.find(std::string("\"") + key + "\"") != std::string::npos);
     }
+    // The session's parts are within the process's peak, and its factor is
+    // a real share of it.
+    const double session_mib = std::stod(field(json, "session"));
+    CHECK(std::stod(field(json, "factor")) > 0.0);
+    CHECK(session_mib > std::stod(field(json, "factor")));
+    CHECK(session_mib < std::stod(field(json, "peak_rss_mib")));
     CHECK(field(json, "frames") == "60");
     CHECK(field(json, "unconverged_frames") == "0");
     CHECK(dualform({"bench", "--repeat", "0", "x.json"}).exit_code == 2);
