@@ -137,27 +137,29 @@ template <std::size_t C>
 // solve takes the supernodes in descending order, which the hardware
 // prefetcher does not follow; fetched all at once before a supernode, the
 // next one's lines queued behind each other, and the 104k solve's
-// supernodes of 9-16 columns took 2.1-2.2 ms in the backward pass against
-// 1.5 in the forward one (1.6 spread over the rows).
+// supernodes of 9-16 columns took 2.4 ms in the backward pass against 1.6
+// in the forward one (1.6-1.7 spread over the rows). Kept as offsets, so
+// that no pointer is formed past the bytes given.
 class Ahead {
 public:
     Ahead(const char* begin, std::size_t bytes, std::size_t rows)
-        : at_(begin),
-          end_(begin + bytes),
+        : begin_(begin),
+          bytes_(bytes),
           per_row_((bytes / 64 + rows) / std::max<std::size_t>(rows, 1)) {}
 
     void row() {
-        for (std::size_t line = 0; line < per_row_ && at_ < end_; ++line, at_ += 64)
-            __builtin_prefetch(at_);
+        for (std::size_t line = 0; line < per_row_ && at_ < bytes_; ++line, at_ += 64)
+            __builtin_prefetch(begin_ + at_);
     }
     void rest() {
-        for (; at_ < end_; at_ += 64) __builtin_prefetch(at_);
+        for (; at_ < bytes_; at_ += 64) __builtin_prefetch(begin_ + at_);
     }
 
 private:
-    const char* at_;
-    const char* end_;
+    const char* begin_;
+    std::size_t bytes_;
     std::size_t per_row_;
+    std::size_t at_ = 0;
 };
 
 // pull_rows for a supernode of at most 4 C columns, the two arrays of sums
@@ -286,8 +288,9 @@ template <std::size_t K>
 // order, one stretch ascending each, which the hardware prefetcher does not
 // follow from one column to the one before it: in a wide block, the column
 // two ahead is fetched while this one is worked on (the 104k solve's
-// supernodes of more than 64 columns 10-15% faster in the backward pass).
-// Narrow blocks come in with the supernode's first pages, fetched ahead.
+// supernodes of more than 64 columns 2.9-3.2 -> 2.6-2.7 ms in the backward
+// pass). A block of 16 columns is 2 KiB, which comes in with the supernode's
+// first lines, fetched while the supernode before it was solved.
 constexpr std::size_t prefetch_columns_wider_than = 16;
 constexpr std::size_t prefetch_columns_ahead = 2;
 
@@ -309,9 +312,9 @@ template <std::size_t K, std::size_t max_chunks>
     for (std::size_t i = w; i-- > 0;) {
         const double* li = l + i * w;
         if (w > prefetch_columns_wider_than && i >= prefetch_columns_ahead) {
-            const std::size_t ahead = i - prefetch_columns_ahead;
-            const auto* column = reinterpret_cast<const char*>(l + ahead * w);
-            for (std::size_t byte = 0; byte < ahead * sizeof(double); byte += 64)
+            const std::size_t next_column = i - prefetch_columns_ahead;
+            const auto* column = reinterpret_cast<const char*>(l + next_column * w);
+            for (std::size_t byte = 0; byte < next_column * sizeof(double); byte += 64)
                 __builtin_prefetch(column + byte);
         }
         if constexpr (K != 0) {

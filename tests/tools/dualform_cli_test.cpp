@@ -26,7 +26,8 @@ dfm::test::ProcessResult dualform(std::vector<std::string> args) {
     return run_process(DUALFORM_CLI, args);
 }
 
-// The value of an integer or boolean field in the CLI's one-line JSON.
+// The text of a number or boolean field (its first occurrence) in the
+// CLI's one-line JSON.
 std::string field(const std::string& json, const std::string& key) {
     const std::string k = "\"" + key + "\":";
     const std::size_t at = json.find(k);
@@ -224,18 +225,24 @@ TEST_CASE("dualform bench: set-up, solve and a 60-frame drag, as JSON") {
     CAPTURE(r.err);
     REQUIRE(r.exit_code == 0);
     const std::string json = dfm::test::read_text(json_path);
-    for (const char* key : {"setup_ms", "solve_ms", "median", "p90", "drag", "frame_ms",
-                            "iterations_per_frame", "peak_rss_mib", "quality", "memory_mib",
-                            "factor", "normal_matrix", "iteration", "staging", "session"}) {
+    for (const char* key :
+         {"setup_ms", "solve_ms", "median", "p90", "drag", "frame_ms", "iterations_per_frame",
+          "peak_rss_mib", "quality", "memory_mib", "factor", "normal_matrix", "iteration",
+          "frame_slots", "staging", "session", "mesh_model"}) {
         CAPTURE(key);
-        CHECK(json.find(std::string("\"") + key + "\"") != std::string::npos);
+        REQUIRE(json.find(std::string("\"") + key + "\"") != std::string::npos);
     }
-    // The session's parts are within the process's peak, and its factor is
-    // a real share of it.
-    const double session_mib = std::stod(field(json, "session"));
-    CHECK(std::stod(field(json, "factor")) > 0.0);
-    CHECK(session_mib > std::stod(field(json, "factor")));
-    CHECK(session_mib < std::stod(field(json, "peak_rss_mib")));
+    // The session is the sum of its parts, each held, and lies within the
+    // process's peak beside the mesh.
+    const auto mib = [&](const char* key) { return std::stod(field(json, key)); };
+    const double parts = mib("factor") + mib("normal_matrix") + mib("iteration") +
+                         mib("frame_slots") + mib("staging");
+    CHECK(mib("session") == doctest::Approx(parts).epsilon(1e-9));
+    for (const char* key : {"factor", "normal_matrix", "iteration", "frame_slots", "mesh_model"}) {
+        CAPTURE(key);
+        CHECK(mib(key) > 0.0);
+    }
+    CHECK(mib("session") + mib("mesh_model") < mib("peak_rss_mib"));
     CHECK(field(json, "frames") == "60");
     CHECK(field(json, "unconverged_frames") == "0");
     CHECK(dualform({"bench", "--repeat", "0", "x.json"}).exit_code == 2);

@@ -213,9 +213,9 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
         predicted += frame.details.predicted ? 1 : 0;
     }
 
-    // The drag's session, as it ends, and the mesh: the parts of the peak
-    // that an edit holds (the rest is the library's buffer pool, which
-    // keeps the set-up's scratch for the next set-up, and this tool's own).
+    // The drag's session, as it ends, and the mesh: what an edit holds.
+    // The peak above them is mostly the library's buffer pool, which keeps
+    // a set-up's scratch for the next set-up, and this tool's own arrays.
     dfm_session_memory session_memory = {};
     if (Status s = api_status(dfm_session_get_memory(drag.get(), &session_memory)); !s) return s;
     dfm_mesh_memory mesh_memory = {};
@@ -277,15 +277,15 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
     json.key("frame_slots").value(mib(session_memory.frames));
     json.key("staging").value(mib(session_memory.staging));
     json.key("session").value(mib(session_memory.total));
-    json.key("mesh").value(mib(mesh_memory.total));
+    json.key("mesh_model").value(mib(mesh_memory.total));
     json.end_object();
     json.key("peak_rss_mib").value(peak_rss_mib());
     json.end_object();
     std::fprintf(stderr,
                  "%-28s setup %8.2f (rows %.2f assembly %.2f ordering %.2f symbolic %.2f "
                  "numeric %.2f) | iteration %.3f (solve %.3f rhs %.3f normals %.3f anderson "
-                 "%.3f) | drag frame %.2f, %.0f iterations | session %.0f MiB, mesh %.0f, "
-                 "peak RSS %.0f\n",
+                 "%.3f) | drag frame %.2f, %.0f iterations | session %.1f MiB, mesh %.1f, "
+                 "peak RSS %.1f\n",
                  path.c_str(), median(setup), median(setup_parts.rows),
                  median(setup_parts.assembly), median(setup_parts.ordering),
                  median(setup_parts.symbolic), median(setup_parts.numeric), median(per_iteration),
