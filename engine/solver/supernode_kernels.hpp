@@ -40,10 +40,10 @@ void forward(std::size_t m, std::size_t w, std::size_t push, std::size_t k, cons
 // earlier own entry j subtracts L(i, j) y_i. The `ahead_bytes` from `ahead`
 // (the next supernode's values, in the backward solve) are fetched into
 // the cache while it works, a few lines with each row below and the rest
-// after those rows; they change nothing else.
+// after those rows (none: 0 bytes); they change nothing else.
 void backward(std::size_t m, std::size_t w, std::size_t k, const double* l,
               const std::uint32_t* rows, double* own, const double* y, double* scratch,
-              const char* ahead = nullptr, std::size_t ahead_bytes = 0);
+              const char* ahead, std::size_t ahead_bytes);
 
 // The product of a row below with own entries held `stride` apart, the sum
 // taken as the forward solve's push takes it (the same bits).
