@@ -5,10 +5,11 @@
 
 #include "core/cpu_features.hpp"
 
-// Compiled also for AVX2 and for AVX-512 (whose 32 registers hold more sums;
-// the lanes stay four doubles wide) and picked at run time, as the dense
-// kernels are: the same multiplications and additions in the same order, so
-// the same bits on every path.
+// Compiled also for AVX2 and for AVX-512 (whose 32 registers hold more sums,
+// and eight doubles each where the backward solve pulls rows of 17 to 32
+// columns) and picked at run time, as the dense kernels are: the same
+// multiplications and additions in the same order, so the same bits on
+// every path.
 #if DFM_X86_DISPATCH
 #define DFM_TARGET_AVX2 __attribute__((target("avx2")))
 #define DFM_TARGET_AVX512 __attribute__((target("avx512f,avx512vl")))
@@ -21,6 +22,11 @@ namespace {
 // Four doubles: one AVX2 register where compiled for it, two SSE registers
 // otherwise. Element-wise products and sums round as scalar ones do.
 using Lanes = double __attribute__((vector_size(32)));
+// Eight doubles, one AVX-512 register: used only where compiled for it.
+using Lanes8 = double __attribute__((vector_size(64)));
+
+template <class V>
+constexpr std::size_t lanes_of = sizeof(V) / sizeof(double);
 
 // Lanes pass by reference: by value they would change the calling
 // convention between the AVX2 and the plain builds.
@@ -119,18 +125,31 @@ template <std::size_t K>
     }
 }
 
-// The row's entries from column 4 q on, q < C: `w` of them in all, lanes
-// past the row's end zero. Those lanes' sums are never read.
-template <std::size_t C>
-[[gnu::always_inline]] inline void load_row(std::size_t w, const double* row, Lanes (&lv)[C]) {
-    for (std::size_t q = 0; q + 1 < C; ++q) load(lv[q], row + 4 * q);
-    const double* tail = row + 4 * (C - 1);
-    switch (w - 4 * (C - 1)) {
-        case 1: lv[C - 1] = Lanes{tail[0], 0.0, 0.0, 0.0}; break;
-        case 2: lv[C - 1] = Lanes{tail[0], tail[1], 0.0, 0.0}; break;
-        case 3: lv[C - 1] = Lanes{tail[0], tail[1], tail[2], 0.0}; break;
-        default: load(lv[C - 1], tail); break;
+// The first n (1 to 4) of `from`, lanes past them zero.
+[[gnu::always_inline]] inline void load_first(std::size_t n, const double* from, Lanes& v) {
+    switch (n) {
+        case 1: v = Lanes{from[0], 0.0, 0.0, 0.0}; break;
+        case 2: v = Lanes{from[0], from[1], 0.0, 0.0}; break;
+        case 3: v = Lanes{from[0], from[1], from[2], 0.0}; break;
+        default: load(v, from); break;
     }
+}
+
+[[gnu::always_inline]] inline void load_first(std::size_t n, const double* from, Lanes8& v) {
+    Lanes low, high = {0.0, 0.0, 0.0, 0.0};
+    load_first(std::min<std::size_t>(n, 4), from, low);
+    if (n > 4) load_first(n - 4, from + 4, high);
+    v = __builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7);
+}
+
+// The row's entries from column L q on, q < C, L lanes to a vector: `w`
+// of them in all, lanes past the row's end zero. Those lanes' sums are
+// never read.
+template <class V, std::size_t C>
+[[gnu::always_inline]] inline void load_row(std::size_t w, const double* row, V (&lv)[C]) {
+    constexpr std::size_t L = lanes_of<V>;
+    for (std::size_t q = 0; q + 1 < C; ++q) std::memcpy(&lv[q], row + L * q, sizeof(V));
+    load_first(w - L * (C - 1), row + L * (C - 1), lv[C - 1]);
 }
 
 // Lines fetched a few at a time as the rows below are pulled. The backward
@@ -162,21 +181,22 @@ private:
     std::size_t at_ = 0;
 };
 
-// pull_rows for a supernode of at most 4 C columns, the two arrays of sums
-// in registers: through memory, each row's sums waited on the stores of the
-// row before last. Each sum takes the same products in the same order, so
-// the same bits.
-template <std::size_t K, std::size_t C>
+// pull_rows for a supernode of at most L C columns (L lanes of V), the two
+// arrays of sums in registers: through memory, each row's sums waited on the
+// stores of the row before last. Each sum takes the same products in the
+// same order, so the same bits.
+template <class V, std::size_t K, std::size_t C>
 [[gnu::always_inline]] inline void pull_narrow_rows(std::size_t h, std::size_t w,
                                                     const double* below, const std::uint32_t* rows,
                                                     const double* y, double* s, Ahead& ahead) {
-    Lanes acc[2][K][C];
+    constexpr std::size_t L = lanes_of<V>;
+    V acc[2][K][C];
     for (auto& parity : acc)
         for (auto& vector : parity)
-            for (Lanes& lanes : vector) lanes = Lanes{0.0, 0.0, 0.0, 0.0};
-    const auto add_row = [&](std::size_t t, Lanes(&a)[K][C]) {
-        Lanes lv[C] = {};
-        load_row<C>(w, below + t * w, lv);
+            for (V& lanes : vector) lanes = V{};
+    const auto add_row = [&](std::size_t t, V(&a)[K][C]) {
+        V lv[C] = {};
+        load_row<V, C>(w, below + t * w, lv);
         const double* yt = y + static_cast<std::size_t>(rows[t]) * K;
         for (std::size_t c = 0; c < K; ++c)
             for (std::size_t q = 0; q < C; ++q) a[c][q] += lv[q] * yt[c];
@@ -191,9 +211,9 @@ template <std::size_t K, std::size_t C>
     if (t < h) add_row(t, acc[0]);
     for (std::size_t c = 0; c < K; ++c) {
         for (std::size_t q = 0; q < C; ++q) {
-            const Lanes sum = acc[0][c][q] + acc[1][c][q];
-            for (std::size_t lane = 0; lane < 4 && 4 * q + lane < w; ++lane)
-                s[c * w + 4 * q + lane] -= sum[lane];
+            const V sum = acc[0][c][q] + acc[1][c][q];
+            for (std::size_t lane = 0; lane < L && L * q + lane < w; ++lane)
+                s[c * w + L * q + lane] -= sum[lane];
         }
     }
 }
@@ -206,22 +226,35 @@ template <std::size_t K, std::size_t C>
 // processor does not prefetch over so few rows: 1.5–2× slower.)
 // Supernodes of up to `max_chunks` chunks of four columns keep the sums in
 // registers (16 columns where the kernels have 32 vector registers, 8 where
-// they have 16: more spilled and were slower).
-template <std::size_t K, std::size_t max_chunks>
+// they have 16: more spilled and were slower). With `eight_lanes`, those of
+// 17 to 32 columns keep them in vectors of eight (24 of the 32 registers):
+// the 104k solve's supernodes of 17-64 columns 2.7-2.9 -> 2.2-2.3 ms in the
+// backward pass. Supernodes of 5-16 columns were slower in vectors of eight.
+template <std::size_t K, std::size_t max_chunks, bool eight_lanes>
 [[gnu::always_inline]] inline void pull_rows(std::size_t h, std::size_t w, std::size_t k,
                                              const double* below, const std::uint32_t* rows,
                                              const double* y, double* s, Ahead& ahead) {
     if constexpr (K != 0) {
         switch ((w + 3) / 4) {
-            case 1: return pull_narrow_rows<K, 1>(h, w, below, rows, y, s, ahead);
-            case 2: return pull_narrow_rows<K, 2>(h, w, below, rows, y, s, ahead);
+            case 1: return pull_narrow_rows<Lanes, K, 1>(h, w, below, rows, y, s, ahead);
+            case 2: return pull_narrow_rows<Lanes, K, 2>(h, w, below, rows, y, s, ahead);
             case 3:
                 if constexpr (max_chunks >= 4)
-                    return pull_narrow_rows<K, 3>(h, w, below, rows, y, s, ahead);
+                    return pull_narrow_rows<Lanes, K, 3>(h, w, below, rows, y, s, ahead);
                 break;
             case 4:
                 if constexpr (max_chunks >= 4)
-                    return pull_narrow_rows<K, 4>(h, w, below, rows, y, s, ahead);
+                    return pull_narrow_rows<Lanes, K, 4>(h, w, below, rows, y, s, ahead);
+                break;
+            case 5:
+            case 6:
+                if constexpr (eight_lanes)
+                    return pull_narrow_rows<Lanes8, K, 3>(h, w, below, rows, y, s, ahead);
+                break;
+            case 7:
+            case 8:
+                if constexpr (eight_lanes)
+                    return pull_narrow_rows<Lanes8, K, 4>(h, w, below, rows, y, s, ahead);
                 break;
             default: break;
         }
@@ -294,7 +327,7 @@ template <std::size_t K>
 constexpr std::size_t prefetch_columns_wider_than = 16;
 constexpr std::size_t prefetch_columns_ahead = 2;
 
-template <std::size_t K, std::size_t max_chunks>
+template <std::size_t K, std::size_t max_chunks, bool eight_lanes>
 [[gnu::always_inline]] inline void backward_body(std::size_t m, std::size_t w, std::size_t k,
                                                  const double* l, const std::uint32_t* rows,
                                                  double* own, const double* y, double* scratch,
@@ -304,7 +337,7 @@ template <std::size_t K, std::size_t max_chunks>
     double* s = scratch;
     Ahead ahead(ahead_begin, ahead_bytes, h);
     split_columns<K>(w, kk, own, s);
-    if (h > 0) pull_rows<K, max_chunks>(h, w, kk, l + w * w, rows, y, s, ahead);
+    if (h > 0) pull_rows<K, max_chunks, eight_lanes>(h, w, kk, l + w * w, rows, y, s, ahead);
     ahead.rest();
     // Column i of the diagonal block above the diagonal is row i of L left
     // of it (SparseCholesky's layout): once y_i is known, the entries before
@@ -352,7 +385,7 @@ template <std::size_t K>
 DFM_TARGET_AVX2 void backward_avx2(std::size_t m, std::size_t w, std::size_t k, const double* l,
                                    const std::uint32_t* rows, double* own, const double* y,
                                    double* scratch, const char* ahead, std::size_t ahead_bytes) {
-    backward_body<K, 2>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
+    backward_body<K, 2, false>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
 }
 
 template <std::size_t K>
@@ -360,7 +393,7 @@ DFM_TARGET_AVX512 void backward_avx512(std::size_t m, std::size_t w, std::size_t
                                        const std::uint32_t* rows, double* own, const double* y,
                                        double* scratch, const char* ahead,
                                        std::size_t ahead_bytes) {
-    backward_body<K, 4>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
+    backward_body<K, 4, true>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
 }
 #endif
 
@@ -384,7 +417,7 @@ void backward_for(std::size_t m, std::size_t w, std::size_t k, const double* l,
     if (cpu::has_avx2())
         return backward_avx2<K>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
 #endif
-    backward_body<K, 2>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
+    backward_body<K, 2, false>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
 }
 
 }  // namespace
