@@ -184,6 +184,31 @@ Status lay_out_supernodes(const PermutedColumns& pattern, CholeskySymbolic& out)
     return Status::ok();
 }
 
+// CholeskySymbolic::backward_order and backward_position, from the
+// subtrees: the children of s are the roots of the subtrees that tile
+// [subtree_begin[s], s), the forest's roots those that tile all of it.
+void order_backward(CholeskySymbolic& out) {
+    const std::size_t s_count = out.supernode_count();
+    out.backward_order.clear();
+    out.backward_order.reserve(s_count);
+    out.backward_position.assign(s_count, 0);
+    std::vector<std::uint32_t> stack;
+    // The roots of the subtrees in [begin, end), pushed from the last, so
+    // that the first comes off the stack first.
+    const auto push_roots = [&](std::uint32_t begin, std::uint32_t end) {
+        for (std::uint32_t after = end; after > begin; after = out.subtree_begin[after - 1])
+            stack.push_back(after - 1);
+    };
+    push_roots(0, static_cast<std::uint32_t>(s_count));
+    while (!stack.empty()) {
+        const std::uint32_t s = stack.back();
+        stack.pop_back();
+        out.backward_position[s] = static_cast<std::uint32_t>(out.backward_order.size());
+        out.backward_order.push_back(s);
+        push_roots(out.subtree_begin[s], s);
+    }
+}
+
 // Who updates whom: each supernode's rows below its columns, cut into runs
 // by the supernode that owns them, listed per target by ascending source.
 void list_updates(std::span<const std::uint32_t> column_to_super, CholeskySymbolic& out) {
@@ -275,6 +300,7 @@ Status analyze_checked_cholesky(const CsrMatrix& a, std::span<const std::uint32_
         if (out.parent[s] != no_parent)
             out.subtree_begin[out.parent[s]] =
                 std::min(out.subtree_begin[out.parent[s]], out.subtree_begin[s]);
+    order_backward(out);
 
     if (Status st = lay_out_supernodes(pattern, out); !st) {
         out = CholeskySymbolic{};

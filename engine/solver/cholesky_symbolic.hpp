@@ -57,6 +57,13 @@ struct CholeskySymbolic {
     // The last supernode of the subtree rooted at s is s; its first is
     // subtree_begin[s] (postorder makes subtrees contiguous).
     std::vector<std::uint32_t> subtree_begin;
+    // The backward solve's order: each supernode before its children, and
+    // these in ascending order (a preorder of the tree), so that the small
+    // supernodes near the leaves are mostly read upwards in memory. The
+    // subtree rooted at s is backward_order[backward_position[s] ..] for
+    // its s − subtree_begin[s] + 1 supernodes.
+    std::vector<std::uint32_t> backward_order;
+    std::vector<std::uint32_t> backward_position;
     // Estimated work of each supernode: Σ over its columns of (rows from the
     // diagonal down)², the work that column's elimination causes.
     PooledVector<double> work;

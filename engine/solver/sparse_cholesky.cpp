@@ -308,10 +308,11 @@ bool SparseCholesky::stop_requested() {
 
 std::size_t SparseCholesky::memory_bytes() const {
     const CholeskySymbolic& s = symbolic_;
-    std::size_t bytes = capacity_bytes(
-        s.perm, s.inverse, s.column_begin, s.parent, s.row_begin, s.rows, s.value_begin,
-        s.update_begin, s.updates, s.entry_begin, s.entry_source, s.entry_target, s.subtree_begin,
-        s.work, s.pattern_row_offsets, s.pattern_col_indices);
+    std::size_t bytes =
+        capacity_bytes(s.perm, s.inverse, s.column_begin, s.parent, s.row_begin, s.rows,
+                       s.value_begin, s.update_begin, s.updates, s.entry_begin, s.entry_source,
+                       s.entry_target, s.subtree_begin, s.backward_order, s.backward_position,
+                       s.work, s.pattern_row_offsets, s.pattern_col_indices);
     bytes += capacity_bytes(schedule_.subtrees, schedule_.top, values_);
     for (const std::vector<std::uint32_t>& roots : schedule_.subtrees)
         bytes += capacity_bytes(roots);

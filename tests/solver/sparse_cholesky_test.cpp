@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/elimination_tree.hpp"
 #include "solver/sparse_cholesky.hpp"
 #include "solver/test_matrices.hpp"
 #include "support/procedural_meshes.hpp"
@@ -202,6 +203,45 @@ TEST_CASE("solver: Cholesky solves of 3 and of 7 vectors equal single-vector sol
         const std::vector<double> xc = cholesky_solve(chol, bc, 1);
         for (std::size_t i = 0; i < n; ++i) REQUIRE(xc[i] == in_place[i * 7 + c]);
     }
+}
+
+TEST_CASE(
+    "solver: the backward solve's order has each supernode after its parent, subtrees whole") {
+    const CsrMatrix a = dfm::test::normal_product(dfm::test::grid_laplacian(40, 30), 1e-6);
+    SparseCholesky chol;
+    REQUIRE(chol.compute(a).is_ok());
+    const CholeskySymbolic& sym = chol.symbolic();
+    const std::size_t count = sym.supernode_count();
+    REQUIRE(count > 100);
+    REQUIRE(sym.backward_order.size() == count);
+    REQUIRE(sym.backward_position.size() == count);
+    std::vector<bool> seen(count, false);
+    std::size_t roots = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        const std::uint32_t s = sym.backward_order[i];
+        REQUIRE(s < count);
+        CHECK_FALSE(seen[s]);
+        seen[s] = true;
+        CHECK(sym.backward_position[s] == i);
+        if (sym.parent[s] == dfm::solver::no_parent) {
+            ++roots;
+        } else {
+            CHECK(seen[sym.parent[s]]);
+        }
+        // The subtree rooted at s follows it, whole: the supernodes
+        // [subtree_begin[s], s] in some order.
+        const std::size_t size = s - sym.subtree_begin[s] + 1;
+        REQUIRE(i + size <= count);
+        for (std::size_t j = i; j < i + size; ++j) {
+            CHECK(sym.backward_order[j] >= sym.subtree_begin[s]);
+            CHECK(sym.backward_order[j] <= s);
+        }
+        // Siblings in ascending order: a supernode's next sibling, if any,
+        // comes right after its subtree.
+        if (i + size < count && sym.parent[sym.backward_order[i + size]] == sym.parent[s])
+            CHECK(sym.backward_order[i + size] > s);
+    }
+    CHECK(roots >= 1);
 }
 
 TEST_CASE("solver: Cholesky factor and solve are bit-identical with 1, 2 and 3 threads") {
