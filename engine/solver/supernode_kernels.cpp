@@ -153,12 +153,13 @@ template <class V, std::size_t C>
 }
 
 // Lines fetched a few at a time as the rows below are pulled. The backward
-// solve takes the supernodes in descending order, which the hardware
-// prefetcher does not follow; fetched all at once before a supernode, the
-// next one's lines queued behind each other, and the 104k solve's
-// supernodes of 9-16 columns took 2.4 ms in the backward pass against 1.6
-// in the forward one (1.6-1.7 spread over the rows). Kept as offsets, so
-// that no pointer is formed past the bytes given.
+// solve takes each supernode before its children, which lie below it in
+// memory, where the hardware prefetcher does not follow; fetched all at
+// once before a supernode (the solve then in descending order), the next
+// one's lines queued behind each other, and the 104k solve's supernodes of
+// 9-16 columns took 2.4 ms in the backward pass against 1.6 in the forward
+// one (1.6-1.7 spread over the rows). Kept as offsets, so that no pointer
+// is formed past the bytes given.
 class Ahead {
 public:
     Ahead(const char* begin, std::size_t bytes, std::size_t rows)
