@@ -344,10 +344,9 @@ double DeformSession::plain_step_length() const {
 }
 
 Status DeformSession::solve(SolveReport& report, const Control* control) {
-    const std::atomic<bool>* interrupt = control != nullptr ? control->interrupt : nullptr;
+    paused_.active = false;
     report = SolveReport{};
     const auto start = std::chrono::steady_clock::now();
-    const double diag = model_.diagonal > 0.0 ? model_.diagonal : 1.0;
     for (std::size_t i = 0; i < unknowns_.count(); ++i) {
         const glm::dvec3& p = positions_[unknowns_.vertex_of_unknown[i]];
         for (int c = 0; c < 3; ++c) current_[3 * i + c] = p[c];
@@ -361,13 +360,47 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
     } else {
         anderson_.restart();
     }
-    double smallest_update = std::numeric_limits<double>::infinity();
-    for (int it = 0; it < settings_.max_iterations; ++it) {
+    return paper_iterations(report, control, 0, std::numeric_limits<double>::infinity(), start);
+}
+
+Status DeformSession::resume(SolveReport& report, const Control* control) {
+    if (!paused_.active) return Status(Errc::invalid_argument, "no solve is paused");
+    paused_.active = false;
+    report = paused_.report;
+    report.paused = false;
+    const auto start = std::chrono::steady_clock::now() -
+                       std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                           std::chrono::duration<double, std::milli>(paused_.elapsed_ms));
+    return settings_.method == DeformMethod::fitted_rotations
+               ? fitted_iterations(report, control, paused_.iteration, paused_.carried, start)
+               : paper_iterations(report, control, paused_.iteration, paused_.carried, start);
+}
+
+bool DeformSession::pause_before(int it, int first, double carried,
+                                 std::chrono::steady_clock::time_point start,
+                                 const Control* control, SolveReport& report) {
+    if (it == first || control == nullptr ||
+        std::chrono::steady_clock::now() < control->pause_after) {
+        return false;
+    }
+    report.solve_ms = ms_since(start);
+    report.paused = true;
+    paused_ = Paused{true, it, carried, report.solve_ms, report};
+    return true;
+}
+
+Status DeformSession::paper_iterations(SolveReport& report, const Control* control, int first,
+                                       double smallest_update,
+                                       std::chrono::steady_clock::time_point start) {
+    const std::atomic<bool>* interrupt = control != nullptr ? control->interrupt : nullptr;
+    const double diag = model_.diagonal > 0.0 ? model_.diagonal : 1.0;
+    for (int it = first; it < settings_.max_iterations; ++it) {
         if (it > 0 && interrupt != nullptr && interrupt->load(std::memory_order_acquire)) {
             report.interrupted = true;
             report.solve_ms = ms_since(start);
             return Status::ok();
         }
+        if (pause_before(it, first, smallest_update, start, control, report)) return Status::ok();
         auto phase = std::chrono::steady_clock::now();
         compute_dual_targets();
         report.normals_ms += ms_since(phase);

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -87,6 +88,8 @@ struct SolveReport {
     // Stopped early by the interrupt flag: positions hold the last iterate,
     // neither converged nor verified.
     bool interrupted = false;
+    // Stopped at Control::pause_after: DeformSession::resume goes on.
+    bool paused = false;
     // fitted_rotations: the energy (deform_energy.hpp) of the iterate the
     // last global step started from, and how many Anderson steps were
     // refused for raising it. The paper's method reports 0 for both.
@@ -153,13 +156,24 @@ public:
         // When it becomes true the solve stops after the iteration in
         // progress (cancel, destroy); the first iteration always runs.
         const std::atomic<bool>* interrupt = nullptr;
+        // Once this time has passed the solve stops before its next
+        // iteration, keeping what resume() needs (host stepping's budget);
+        // each call runs one iteration at least.
+        std::chrono::steady_clock::time_point pause_after =
+            std::chrono::steady_clock::time_point::max();
         // Called after each iteration that does not converge, with
         // positions() holding that iterate: a preview for the host.
         std::function<void(const SolveReport&)> on_iteration;
     };
 
-    // Runs the two-step iteration from the current positions.
+    // Runs the two-step iteration from the current positions; a paused
+    // solve is dropped.
     Status solve(SolveReport& report, const Control* control = nullptr);
+    // Goes on with the solve that Control::pause_after stopped, with the
+    // same iterates, bit for bit, as if it had not stopped; `report` goes
+    // on from the paused one's. Errc::invalid_argument when none is paused.
+    Status resume(SolveReport& report, const Control* control = nullptr);
+    bool paused() const { return paused_.active; }
 
     std::span<const glm::dvec3> positions() const { return positions_; }
     std::span<const std::uint32_t> handle_vertices() const { return handle_vertices_; }
@@ -178,8 +192,20 @@ private:
     void store_solution();
     void verify_last_solve(SolveReport& report);
     double plain_step_length() const;
+    // The iterations from `first` on: solve() starts them at 0, resume()
+    // where a pause stopped them, with what the loop carries from one
+    // iteration to the next (Paused::carried).
+    Status paper_iterations(SolveReport& report, const Control* control, int first,
+                            double smallest_update, std::chrono::steady_clock::time_point start);
+    // True, with the loop's state kept for resume(), when the solve stops
+    // before iteration `it` for Control::pause_after.
+    bool pause_before(int it, int first, double carried,
+                      std::chrono::steady_clock::time_point start, const Control* control,
+                      SolveReport& report);
     // fitted_iteration.cpp
     Status solve_fitted(SolveReport& report, const Control* control);
+    Status fitted_iterations(SolveReport& report, const Control* control, int first, double energy,
+                             std::chrono::steady_clock::time_point start);
     double fit_and_prepare(std::span<const double> x, int rotation_steps, SolveReport& report);
     void align_to_handles();
 
@@ -205,6 +231,14 @@ private:
     PooledVector<double> height_scale_;  // per dual row, with scale_heights
     bool pinned_ = true;                 // the ROI has a fixed boundary
     SetupReport setup_;
+    // A solve that Control::pause_after stopped: where its loop was.
+    struct Paused {
+        bool active = false;
+        int iteration = 0;
+        double carried = 0.0;  // the paper's smallest update; the fitted energy
+        double elapsed_ms = 0.0;
+        SolveReport report;
+    } paused_;
 };
 
 }  // namespace dfm::deform

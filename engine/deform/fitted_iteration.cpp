@@ -83,9 +83,7 @@ void DeformSession::align_to_handles() {
 }
 
 Status DeformSession::solve_fitted(SolveReport& report, const Control* control) {
-    const std::atomic<bool>* interrupt = control != nullptr ? control->interrupt : nullptr;
     const auto start = std::chrono::steady_clock::now();
-    const double diag = model_.diagonal > 0.0 ? model_.diagonal : 1.0;
     anderson_.restart();
     if (!report.predicted) align_to_handles();
     // A solve may start far from the last fit (new targets, a rigid
@@ -96,12 +94,21 @@ Status DeformSession::solve_fitted(SolveReport& report, const Control* control) 
     frames_.keep_fit();
     report.energy = energy;
     std::copy(current_.begin(), current_.end(), x_.begin());
-    for (int it = 0; it < settings_.max_iterations; ++it) {
+    return fitted_iterations(report, control, 0, energy, start);
+}
+
+Status DeformSession::fitted_iterations(SolveReport& report, const Control* control, int first,
+                                        double energy,
+                                        std::chrono::steady_clock::time_point start) {
+    const std::atomic<bool>* interrupt = control != nullptr ? control->interrupt : nullptr;
+    const double diag = model_.diagonal > 0.0 ? model_.diagonal : 1.0;
+    for (int it = first; it < settings_.max_iterations; ++it) {
         if (it > 0 && interrupt != nullptr && interrupt->load(std::memory_order_acquire)) {
             report.interrupted = true;
             report.solve_ms = ms_since(start);
             return Status::ok();
         }
+        if (pause_before(it, first, energy, start, control, report)) return Status::ok();
         std::size_t krylov = 0;
         auto phase = std::chrono::steady_clock::now();
         if (Status s = linear_.solve(rhs_, x_, settings_.linear_tolerance * diag,

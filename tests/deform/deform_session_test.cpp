@@ -308,3 +308,51 @@ TEST_CASE("deform: a session's memory: a larger ROI holds a larger factor") {
     CHECK(a.frames == 0);  // AsyncSession's
     CHECK(a.staging == 0);
 }
+
+TEST_CASE("deform: a solve stopped before each iteration resumes to the same bits") {
+    const deform::MeshModel model = deform::build_mesh_model(test::make_limb(16, 30, 0.2, 2.0));
+    const std::vector<std::vector<std::uint32_t>> groups = {near_y(model.mesh, 1.9, 2.0)};
+    for (const deform::DeformMethod method :
+         {deform::DeformMethod::fitted_rotations, deform::DeformMethod::paper}) {
+        CAPTURE(deform::method_name(method));
+        deform::DeformSettings settings;
+        settings.method = method;
+        std::unique_ptr<deform::DeformSession> whole, stepped;
+        REQUIRE(deform::DeformSession::create(model, near_y(model.mesh, 0.3, 2.0), groups, settings,
+                                              whole)
+                    .is_ok());
+        REQUIRE(deform::DeformSession::create(model, near_y(model.mesh, 0.3, 2.0), groups, settings,
+                                              stepped)
+                    .is_ok());
+        // Two solves each, so that the second starts from a prediction.
+        for (const double x : {0.3, 0.5}) {
+            std::vector<glm::dvec3> targets;
+            for (std::uint32_t v : groups[0])
+                targets.push_back(model.mesh.positions[v] + glm::dvec3(x, 0, 0));
+            REQUIRE(whole->set_targets(targets).is_ok());
+            REQUIRE(stepped->set_targets(targets).is_ok());
+            deform::SolveReport expected;
+            REQUIRE(whole->solve(expected).is_ok());
+            // A deadline already past: every call runs one iteration.
+            deform::DeformSession::Control control;
+            control.pause_after = std::chrono::steady_clock::now();
+            deform::SolveReport report;
+            REQUIRE(stepped->solve(report, &control).is_ok());
+            int calls = 1;
+            while (report.paused) {
+                CHECK(stepped->paused());
+                REQUIRE(stepped->resume(report, &control).is_ok());
+                ++calls;
+            }
+            CHECK_FALSE(stepped->paused());
+            CHECK(calls == expected.iterations);
+            CHECK(report.iterations == expected.iterations);
+            CHECK(report.converged == expected.converged);
+            CHECK(report.krylov_iterations == expected.krylov_iterations);
+            CHECK(std::equal(whole->positions().begin(), whole->positions().end(),
+                             stepped->positions().begin()));
+        }
+        deform::SolveReport none;
+        CHECK(stepped->resume(none).code() == Errc::invalid_argument);
+    }
+}
