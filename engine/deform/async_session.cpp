@@ -8,34 +8,11 @@
 #include <exception>
 #include <new>
 #include <string>
-#include <system_error>
-
-#if defined(__linux__)
-#include <pthread.h>
-#include <sched.h>
-#endif
 
 #include "core/memory_bytes.hpp"
 #include "core/stopwatch.hpp"
 
 namespace dfm::deform {
-
-namespace {
-
-// Names the worker for debuggers and profilers, and takes it out of wake-up
-// preemption: with SCHED_BATCH a submit that wakes it does not hand the
-// host's core to it (the host's frame would pay for the switch); it still
-// gets its fair share of time.
-void configure_worker_thread() {
-#if defined(__linux__)
-    pthread_setname_np(pthread_self(), "dfm-session");
-    sched_param param{};
-    param.sched_priority = 0;
-    pthread_setschedparam(pthread_self(), SCHED_BATCH, &param);
-#endif
-}
-
-}  // namespace
 
 // A word at a time, not a byte: the multiplications are one chain, and
 // over bytes they took 0.65 ms of every 26k-vertex frame's publication.
@@ -51,16 +28,17 @@ std::uint64_t frame_checksum(std::span<const glm::dvec3> positions) {
 
 Status AsyncSession::create(const MeshModel& model, std::span<const std::uint32_t> roi,
                             std::span<const std::uint32_t> handle_vertices, Setup setup,
-                            Start start, std::unique_ptr<AsyncSession>& out) {
+                            Start start, jobs::Scheduler& scheduler,
+                            std::unique_ptr<AsyncSession>& out) {
     out.reset();
     if (!setup) return Status(Errc::invalid_argument, "no set-up given");
     try {
-        std::unique_ptr<AsyncSession> s(new AsyncSession(model));
+        std::unique_ptr<AsyncSession> s(new AsyncSession(model, scheduler));
         s->setup_ = std::move(setup);
         s->handle_vertices_.assign(handle_vertices.begin(), handle_vertices.end());
         s->moving_.assign(roi.begin(), roi.end());
         s->queued_targets_.resize(s->handle_vertices_.size());
-        s->worker_targets_.resize(s->handle_vertices_.size());
+        s->run_targets_.resize(s->handle_vertices_.size());
         s->first_generation_ = start.first_generation;
         s->next_generation_ = std::max(start.first_generation, start.submitted_through) + 1;
         s->cancelled_through_ = s->next_generation_ - 1;
@@ -73,28 +51,38 @@ Status AsyncSession::create(const MeshModel& model, std::span<const std::uint32_
         s->newest_finished_ = start.first_generation;
         s->on_frame_ = std::move(start.on_frame);
         s->record_memory();
-        s->worker_ = std::thread([raw = s.get()] { raw->run_worker(); });
+        if (!scheduler.post(*s)) {
+            // Never started: nothing to report to on_frame.
+            s->set_up_ran_ = true;
+            return Status(Errc::cancelled,
+                          "the context that would run the session's work was destroyed");
+        }
         out = std::move(s);
         return Status::ok();
     } catch (const std::bad_alloc&) {
-        return Status(Errc::out_of_memory, "out of memory while starting the session's worker");
-    } catch (const std::system_error& e) {
-        return Status(Errc::out_of_memory,
-                      std::string("could not start the session's worker thread: ") + e.what());
+        return Status(Errc::out_of_memory, "out of memory while starting the session");
     }
 }
 
 AsyncSession::~AsyncSession() {
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        stopping_ = true;
         has_queued_ = false;
         cancelled_through_ = next_generation_ - 1;
         interrupt_.store(true, std::memory_order_release);
         stop_setup_.store(true, std::memory_order_relaxed);
     }
-    work_ready_.notify_all();
-    if (worker_.joinable()) worker_.join();
+    scheduler_.withdraw(*this);
+    if (set_up_ran_) return;
+    // Destroyed while its set-up waited in line: reported as a set-up that
+    // was stopped, as one stopped part way is. Without memory for the frame
+    // there is no report; the session goes all the same.
+    try {
+        std::lock_guard<std::mutex> solving(solve_mutex_);
+        finish_set_up(Status(Errc::cancelled, "the session was destroyed before its set-up ran"),
+                      nullptr);
+    } catch (...) {
+    }
 }
 
 Status AsyncSession::check_targets(std::span<const glm::dvec3> targets) const {
@@ -117,17 +105,24 @@ Status AsyncSession::check_targets(std::span<const glm::dvec3> targets) const {
 Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
     generation = 0;
     if (Status s = check_targets(targets); !s) return s;
-    bool wake = false;
+    std::uint64_t queued = 0;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         if (!setup_status_) return setup_status_;
         std::copy(targets.begin(), targets.end(), queued_targets_.begin());
         has_queued_ = true;
         queued_generation_ = next_generation_++;
-        generation = queued_generation_;
-        wake = !worker_polling_;
+        queued = queued_generation_;
     }
-    if (wake) work_ready_.notify_one();
+    if (!scheduler_.post(*this)) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (queued_generation_ == queued) has_queued_ = false;
+        cancelled_through_ = std::max(cancelled_through_, queued);
+        return Status(Errc::cancelled,
+                      "the context that runs this session's work was destroyed; solve on the "
+                      "calling thread instead");
+    }
+    generation = queued;
     return Status::ok();
 }
 
@@ -139,14 +134,39 @@ void AsyncSession::cancel() {
         interrupt_.store(true, std::memory_order_release);
     }
     frame_ready_.notify_all();
-    // The worker holds solve_mutex_ for the whole of a solve, not during the set-up.
+    // A scheduled run holds solve_mutex_ for the whole of a solve, not during the set-up.
     std::lock_guard<std::mutex> idle(solve_mutex_);
 }
 
-bool AsyncSession::wait_until_set_up() {
+template <class Done>
+bool AsyncSession::wait_until(Done&& done, jobs::Clock::time_point deadline) {
     std::unique_lock<std::mutex> lock(mutex_);
-    frame_ready_.wait(lock, [&] { return !preparing_; });
-    return setup_status_.is_ok();
+    if (scheduler_.mode() != jobs::Mode::host_stepped) {
+        // wait_until converts the deadline for the system, which overflows for "forever".
+        if (deadline == jobs::Clock::time_point::max()) {
+            frame_ready_.wait(lock, done);
+            return true;
+        }
+        return frame_ready_.wait_until(lock, deadline, done);
+    }
+    // No thread runs the work: the waiting thread runs it, first in line
+    // first, until what it waits for is done. Another thread may be solving
+    // meanwhile (stepping, or a synchronous solve): its frames wake the wait.
+    constexpr std::chrono::milliseconds recheck{1};
+    while (!done()) {
+        const auto now = jobs::Clock::now();
+        if (now >= deadline) return false;
+        lock.unlock();
+        const bool ran = scheduler_.step_one(deadline);
+        lock.lock();
+        if (!ran) frame_ready_.wait_until(lock, std::min(deadline, now + recheck), done);
+    }
+    return true;
+}
+
+bool AsyncSession::wait_until_set_up() {
+    wait_until([&] { return !preparing_; }, jobs::Clock::time_point::max());
+    return setup_status().is_ok();
 }
 
 Status AsyncSession::solve_now(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
@@ -159,24 +179,21 @@ Status AsyncSession::solve_now(std::span<const glm::dvec3> targets, std::uint64_
         generation = next_generation_++;
         interrupt_.store(true, std::memory_order_release);
     }
-    return solve_and_publish(targets, generation, nullptr);
+    return solve_and_publish(targets, generation, nullptr, jobs::Clock::time_point::max());
 }
 
 AsyncSession::WaitResult AsyncSession::wait(std::uint64_t generation,
                                             std::chrono::nanoseconds timeout) {
-    std::unique_lock<std::mutex> lock(mutex_);
     // Generations up to the start frame's are the set-up's: ready once it ends.
     const auto cancelled = [&] {
         return generation > first_generation_ && generation <= cancelled_through_;
     };
     const auto finished = [&] { return !preparing_ && newest_finished_ >= generation; };
-    const auto done = [&] { return finished() || cancelled(); };
-    // wait_for adds the timeout to now(), which overflows for "forever".
-    if (timeout == std::chrono::nanoseconds::max()) {
-        frame_ready_.wait(lock, done);
-    } else {
-        frame_ready_.wait_for(lock, timeout, done);
-    }
+    const auto deadline = timeout == std::chrono::nanoseconds::max()
+                              ? jobs::Clock::time_point::max()
+                              : jobs::Clock::now() + timeout;
+    wait_until([&] { return finished() || cancelled(); }, deadline);
+    std::lock_guard<std::mutex> lock(mutex_);
     if (finished()) return WaitResult::ready;
     return cancelled() ? WaitResult::cancelled : WaitResult::timed_out;
 }
@@ -223,11 +240,11 @@ void AsyncSession::record_memory() {
     for (const Frame& f : frames_)
         m.frames += capacity_bytes(f.positions, f.normals, f.positions_f32, f.normals_f32);
     std::lock_guard<std::mutex> lock(mutex_);
-    m.staging = capacity_bytes(moving_, handle_vertices_, queued_targets_, worker_targets_);
+    m.staging = capacity_bytes(moving_, handle_vertices_, queued_targets_, run_targets_);
     memory_ = m;
 }
 
-bool AsyncSession::set_up() {
+void AsyncSession::set_up() {
     Status built;
     std::unique_ptr<DeformSession> session;
     // The frames' normals are part of what the host waits for, so their
@@ -252,87 +269,109 @@ bool AsyncSession::set_up() {
     }
     setup_ = nullptr;
     std::lock_guard<std::mutex> solving(solve_mutex_);
-    if (built) session_ = std::move(session);
+    SetupReport report;
+    if (built) {
+        session_ = std::move(session);
+        report = session_->setup_report();
+        report.setup_ms += frames_ms;
+    }
+    finish_set_up(built, built ? &report : nullptr);
+}
+
+void AsyncSession::finish_set_up(const Status& status, const SetupReport* report) {
     std::uint64_t generation = 0;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         preparing_ = false;
-        setup_status_ = built;
-        if (built) {
-            setup_report_ = session_->setup_report();
-            setup_report_.setup_ms += frames_ms;
-        }
+        setup_status_ = status;
+        if (report != nullptr) setup_report_ = *report;
         generation = first_generation_;
         // Targets queued meanwhile hear of the failure through their frame.
-        if (!built && has_queued_) {
+        if (!status && has_queued_) {
             generation = queued_generation_;
             has_queued_ = false;
         }
     }
-    publish(generation, SolveReport{.converged = built.is_ok()}, built.code(), false);
-    return built.is_ok();
+    publish(generation, SolveReport{.converged = status.is_ok()}, status.code(), false);
 }
 
-void AsyncSession::run_worker() {
-    configure_worker_thread();
-    bool ready = false;
+jobs::Task::Outcome AsyncSession::run(const Slice& slice) {
+    // Nothing may escape a run: it runs on a thread of the context's or of
+    // the host's, and an exception there would end the host.
     try {
-        ready = set_up();
+        if (slice.closing) {
+            close_out();
+        } else if (!set_up_ran_) {
+            set_up_ran_ = true;
+            set_up();
+        } else {
+            return solve_queued(slice.deadline);
+        }
     } catch (...) {
-        // Only recording the outcome can throw here (out of memory); the
-        // session then refuses work as if the set-up had failed.
+        // Only publishing an outcome can throw here (out of memory); a
+        // set-up that could not publish refuses work as if it had failed.
         std::lock_guard<std::mutex> lock(mutex_);
-        preparing_ = false;
+        if (preparing_) {
+            preparing_ = false;
+            // A short message: std::string keeps it without allocating.
+            setup_status_ = Status(Errc::out_of_memory, "out of memory");
+        }
     }
-    if (!ready) {
-        std::unique_lock<std::mutex> lock(mutex_);
-        // A short message: std::string keeps it without allocating.
-        if (setup_status_) setup_status_ = Status(Errc::out_of_memory, "out of memory");
-        frame_ready_.notify_all();
-        work_ready_.wait(lock, [&] { return stopping_; });
-        return;
-    }
-    for (;;) {
-        std::uint64_t generation = 0;
+    frame_ready_.notify_all();
+    // Targets queued during the set-up wait for the next run.
+    std::lock_guard<std::mutex> lock(mutex_);
+    return has_queued_ && !slice.closing ? Outcome::more : Outcome::done;
+}
+
+jobs::Task::Outcome AsyncSession::solve_queued(jobs::Clock::time_point deadline) {
+    std::uint64_t generation = 0;
+    bool paused = false;
+    try {
+        // A solve stopped at the last run's deadline goes on first; one
+        // that cancel stopped meanwhile ends at once.
+        if (resume_and_publish(deadline, generation, paused)) {
+            if (paused) return Outcome::paused;
+            std::lock_guard<std::mutex> lock(mutex_);
+            return has_queued_ ? Outcome::more : Outcome::done;
+        }
         {
-            std::unique_lock<std::mutex> lock(mutex_);
-            wait_for_work(lock);
-            if (stopping_) return;
-            std::swap(queued_targets_, worker_targets_);
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (!has_queued_) return Outcome::done;
+            std::swap(queued_targets_, run_targets_);
             generation = queued_generation_;
             has_queued_ = false;
             interrupt_.store(false, std::memory_order_release);
         }
         // The targets were checked when they were queued; a breakdown is
-        // published as the frame's status. Nothing may escape the thread:
-        // an exception here would terminate the host.
-        try {
-            static_cast<void>(solve_and_publish(worker_targets_, generation, &interrupt_));
-        } catch (const std::bad_alloc&) {
-            publish_failure(generation, Errc::out_of_memory);
-        } catch (...) {
-            publish_failure(generation, Errc::internal);
-        }
+        // published as the frame's status.
+        static_cast<void>(solve_and_publish(run_targets_, generation, &interrupt_, deadline));
+        std::lock_guard<std::mutex> solving(solve_mutex_);
+        if (session_->paused()) return Outcome::paused;
+    } catch (const std::bad_alloc&) {
+        publish_failure(generation, Errc::out_of_memory);
+    } catch (...) {
+        publish_failure(generation, Errc::internal);
     }
+    return Outcome::done;
 }
 
-void AsyncSession::wait_for_work(std::unique_lock<std::mutex>& lock) {
-    const auto idle_since = std::chrono::steady_clock::now();
-    while (!stopping_ && !has_queued_) {
-        if (std::chrono::steady_clock::now() - idle_since < idle_poll_window) {
-            worker_polling_ = true;
-            work_ready_.wait_for(lock, idle_poll_interval);
-        } else {
-            worker_polling_ = false;
-            work_ready_.wait(lock, [&] { return stopping_ || has_queued_; });
-        }
+void AsyncSession::close_out() {
+    if (!set_up_ran_) {
+        set_up_ran_ = true;
+        std::lock_guard<std::mutex> solving(solve_mutex_);
+        finish_set_up(Status(Errc::cancelled,
+                             "the context that would run the set-up was destroyed before it ran"),
+                      nullptr);
+        return;
     }
-    worker_polling_ = false;
+    std::lock_guard<std::mutex> lock(mutex_);
+    has_queued_ = false;
+    cancelled_through_ = next_generation_ - 1;
 }
 
 Status AsyncSession::solve_and_publish(std::span<const glm::dvec3> targets,
-                                       std::uint64_t generation,
-                                       const std::atomic<bool>* interrupt) {
+                                       std::uint64_t generation, const std::atomic<bool>* interrupt,
+                                       jobs::Clock::time_point deadline) {
     std::lock_guard<std::mutex> solving(solve_mutex_);
     {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -340,8 +379,24 @@ Status AsyncSession::solve_and_publish(std::span<const glm::dvec3> targets,
     }
     last_solved_ = generation;
     if (Status s = session_->set_targets(targets); !s) return s;
+    return run_and_publish(generation, interrupt, deadline, false);
+}
+
+bool AsyncSession::resume_and_publish(jobs::Clock::time_point deadline, std::uint64_t& generation,
+                                      bool& paused) {
+    std::lock_guard<std::mutex> solving(solve_mutex_);
+    if (!session_->paused()) return false;
+    generation = last_solved_;
+    static_cast<void>(run_and_publish(generation, &interrupt_, deadline, true));
+    paused = session_->paused();
+    return true;
+}
+
+Status AsyncSession::run_and_publish(std::uint64_t generation, const std::atomic<bool>* interrupt,
+                                     jobs::Clock::time_point deadline, bool resume) {
     DeformSession::Control control;
     control.interrupt = interrupt;
+    control.pause_after = deadline;
     if (interrupt != nullptr) {
         control.on_iteration = [&](const SolveReport& progress) {
             const auto now = std::chrono::steady_clock::now();
@@ -350,9 +405,11 @@ Status AsyncSession::solve_and_publish(std::span<const glm::dvec3> targets,
         };
     }
     SolveReport report;
-    const Status solved = session_->solve(report, &control);
-    // Stopped by cancel, destroy or a synchronous solve: nothing to show.
-    if (report.interrupted) return Status::ok();
+    const Status solved =
+        resume ? session_->resume(report, &control) : session_->solve(report, &control);
+    // Stopped by cancel, destroy or a synchronous solve: nothing to show;
+    // stopped at the deadline: the next run goes on.
+    if (report.interrupted || report.paused) return Status::ok();
     publish(generation, report, solved.code(), false);
     return solved;
 }

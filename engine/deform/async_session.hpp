@@ -9,13 +9,13 @@
 #include <memory>
 #include <mutex>
 #include <span>
-#include <thread>
 #include <vector>
 
 #include "core/pooled_allocator.hpp"
 #include "core/status.hpp"
 #include "deform/deform_session.hpp"
 #include "deform/region_normals.hpp"
+#include "jobs/scheduler.hpp"
 
 namespace dfm::deform {
 
@@ -26,12 +26,12 @@ struct Frame {
     std::uint64_t generation = 0;
     // A preview: an iterate published while the solve for `generation` runs.
     bool partial = false;
-    // The set-up (assembly, ordering, factorization) is still running on the
-    // worker: the positions are the rest pose.
+    // The set-up (assembly, ordering, factorization) has not ended: the
+    // positions are the rest pose.
     bool preparing = false;
     SolveReport report;
     // numerical: the solve broke down and `positions` are the last good ones;
-    // any other failure: the set-up or the worker failed.
+    // any other failure: the set-up or the solve's run failed.
     Errc status = Errc::ok;
     // frame_checksum(positions), computed as the frame was written: a
     // reader that recomputes it knows the frame is whole.
@@ -56,8 +56,10 @@ struct Frame {
 // each vertex in order), the frame's checksum.
 std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
 
-// A DeformSession behind a worker thread (docs/design.md, "The asynchronous session").
-// The worker first builds the session (the set-up), so creating one never
+// A DeformSession whose work runs on its context's scheduler
+// (docs/design.md, "The asynchronous session"): a task (jobs/task.hpp)
+// that takes turns with the other sessions' on the context's workers.
+// Its first run builds the session (the set-up), so creating one never
 // costs the host's frame; meanwhile frames show the rest pose, marked
 // preparing, and submitted targets wait for it. The host submits targets
 // without blocking; latest wins: queued targets that a newer submit replaces
@@ -65,21 +67,21 @@ std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
 // solve_now stop it early), so every finished frame is a converged result;
 // while it runs, an iterate is published as a partial frame at most every
 // preview_interval. Frames live in five slots: the newest, the newest
-// finished (kept for a bake while previews follow it), the one the worker
+// finished (kept for a bake while previews follow it), the one a solve
 // writes, one a reader copies and one a host holds as a view (and a sixth
 // holds the start frame until the first is published); no side waits for
 // another beyond swapping indices, no frame is ever torn, and after the
 // set-up no publish allocates.
-class AsyncSession {
+class AsyncSession : private jobs::Task {
 public:
-    // Builds the session on the worker; what it throws is reported as the
-    // set-up's failure. `stop` turns true when the AsyncSession is
-    // destroyed: handed on to DeformSession::create, it ends the set-up
-    // part way (Errc::cancelled, published as the set-up's frame).
+    // Builds the session in the task's first run; what it throws is
+    // reported as the set-up's failure. `stop` turns true when the
+    // AsyncSession is destroyed or its scheduler closes: handed on to DeformSession::create, it
+    // ends the set-up part way (Errc::cancelled, published as the set-up's frame).
     using Setup =
         std::function<Status(std::unique_ptr<DeformSession>&, const std::atomic<bool>* stop)>;
-    // Called on the publishing thread (the worker, or solve_now's caller)
-    // after each frame is published, with no lock held.
+    // Called on the publishing thread (the scheduler's, or solve_now's
+    // caller) after each frame is published, with no lock held.
     using FrameHook = std::function<void(const Frame&)>;
 
     struct Start {
@@ -92,20 +94,22 @@ public:
 
     // `roi` is the region the session edits (ascending, no repeats);
     // frames carry the positions of all its vertices. `handle_vertices` are the set-up's,
-    // in order. `model` must outlive the AsyncSession.
+    // in order. `model` and `scheduler` must outlive the AsyncSession.
+    // Errc::cancelled when the scheduler is closed.
     static Status create(const MeshModel& model, std::span<const std::uint32_t> roi,
                          std::span<const std::uint32_t> handle_vertices, Setup setup, Start start,
-                         std::unique_ptr<AsyncSession>& out);
-    // Stops the worker after the iteration in progress, or the set-up
-    // through Setup's stop flag, and joins it.
+                         jobs::Scheduler& scheduler, std::unique_ptr<AsyncSession>& out);
+    // Stops the solve after the iteration in progress, or the set-up
+    // through Setup's stop flag, and waits for the run to return; a set-up
+    // that never ran is published as cancelled.
     ~AsyncSession();
     AsyncSession(const AsyncSession&) = delete;
     AsyncSession& operator=(const AsyncSession&) = delete;
 
-    // Queues `targets` (one per handle vertex) for the worker and returns
-    // their generation. Never waits for a solve or the set-up. Non-finite
-    // targets, a wrong count or a failed set-up are refused and nothing is
-    // queued.
+    // Queues `targets` (one per handle vertex) for the scheduler and
+    // returns their generation. Never waits for a solve or the set-up.
+    // Non-finite targets, a wrong count, a failed set-up or a closed
+    // scheduler are refused and nothing is queued.
     Status submit(std::span<const glm::dvec3> targets, std::uint64_t& generation);
 
     // Drops queued targets and stops the running solve after its current
@@ -115,9 +119,9 @@ public:
     void cancel();
 
     // Solves `targets` on the calling thread (refused like submit's), after
-    // waiting for the set-up and stopping the worker's solve, and publishes
-    // the frame as the worker would: the same arithmetic, so the result is
-    // bit for bit what the worker computes from the same state.
+    // waiting for the set-up and stopping the scheduled solve, and publishes
+    // the frame as a scheduled solve would: the same arithmetic, so the
+    // result is bit for bit what the scheduler computes from the same state.
     Status solve_now(std::span<const glm::dvec3> targets, std::uint64_t& generation);
 
     enum class WaitResult { ready, cancelled, timed_out };
@@ -125,6 +129,7 @@ public:
     // of generation >= `generation` is published (ready), that generation is
     // cancelled, or `timeout` passes; nanoseconds::max() waits without
     // limit. The start frame's generation waits for the set-up alone.
+    // With host stepping the wait runs the scheduler's work meanwhile.
     WaitResult wait(std::uint64_t generation, std::chrono::nanoseconds timeout);
 
     // Changes when later solves stop; waits for the set-up and a running
@@ -139,7 +144,7 @@ public:
     std::uint64_t submitted_generation() const;
 
     // Calls `reader(const Frame&)` with the newest frame. Concurrent readers
-    // take turns; the worker never waits for them.
+    // take turns; a solve never waits for them.
     template <class Reader>
     void read(Reader&& reader) {
         std::lock_guard<std::mutex> read_lock(read_mutex_);
@@ -180,21 +185,13 @@ public:
     bool holding() const;
 
     static constexpr std::chrono::milliseconds preview_interval{8};
-    // After its last piece of work the worker looks for new targets every
-    // idle_poll_interval for idle_poll_window before it sleeps until woken.
-    // A submit while it looks makes no system call: waking a sleeping
-    // thread costs the submitting thread several microseconds, which a host
-    // pays in its frame; the looking costs the worker a wake-up per
-    // interval, and a new drag's first submit pays the wake-up once.
-    static constexpr std::chrono::microseconds idle_poll_interval{200};
-    static constexpr std::chrono::milliseconds idle_poll_window{100};
 
     // The ROI, ascending (every vertex that may move is in it);
     // Frame::positions follows it.
     std::span<const std::uint32_t> moving() const { return moving_; }
     std::span<const std::uint32_t> handle_vertices() const { return handle_vertices_; }
     const MeshModel& model() const { return model_; }
-    // The set-up of the session's system, once the worker has built it
+    // The set-up of the session's system, once the set-up has built it
     // (zeros while it prepares or when it failed).
     SetupReport setup_report() const;
 
@@ -205,17 +202,38 @@ public:
     SessionMemory memory() const;
 
 private:
-    explicit AsyncSession(const MeshModel& model) : model_(model) {}
-    void run_worker();
-    // Runs the set-up and publishes its outcome; false when it failed.
-    bool set_up();
-    // Waits for queued targets or stopping_ (see idle_poll_interval).
-    void wait_for_work(std::unique_lock<std::mutex>& lock);
+    AsyncSession(const MeshModel& model, jobs::Scheduler& scheduler)
+        : model_(model), scheduler_(scheduler) {}
+    // The scheduler's run: the set-up first, then one solve of the newest
+    // targets; a closing run ends the work instead.
+    Outcome run(const Slice& slice) override;
+    // Runs the set-up and publishes its outcome.
+    void set_up();
+    // Ends the set-up with `status` and publishes its frame.
+    void finish_set_up(const Status& status, const SetupReport* report);
+    // Goes on with a solve the last run's deadline stopped, or solves the
+    // newest queued targets, and publishes the frame; paused when it
+    // stopped at `deadline`.
+    Outcome solve_queued(jobs::Clock::time_point deadline);
+    // A closing run: what is queued is cancelled, a set-up that never ran
+    // is reported as cancelled.
+    void close_out();
+    // Runs the scheduler's work while `done()` is false, or waits for the
+    // threads that run it, until `deadline`; true once done() holds.
+    template <class Done>
+    bool wait_until(Done&& done, jobs::Clock::time_point deadline);
     // The count and finiteness of targets, checked before anything changes.
     Status check_targets(std::span<const glm::dvec3> targets) const;
     // Solves for `targets` under solve_mutex_ and publishes the frame.
     Status solve_and_publish(std::span<const glm::dvec3> targets, std::uint64_t generation,
-                             const std::atomic<bool>* interrupt);
+                             const std::atomic<bool>* interrupt, jobs::Clock::time_point deadline);
+    // Resumes the paused solve, if there is one (false otherwise), under
+    // solve_mutex_, and publishes its frame; `paused` when it stopped again.
+    bool resume_and_publish(jobs::Clock::time_point deadline, std::uint64_t& generation,
+                            bool& paused);
+    // The solve (or its resumption) and the frame, under solve_mutex_.
+    Status run_and_publish(std::uint64_t generation, const std::atomic<bool>* interrupt,
+                           jobs::Clock::time_point deadline, bool resume);
     // The session's positions, or the rest pose before a set-up.
     std::span<const glm::dvec3> current_positions() const;
     void publish(std::uint64_t generation, const SolveReport& report, Errc status, bool partial);
@@ -234,9 +252,10 @@ private:
     void record_memory();
 
     const MeshModel& model_;
-    Setup setup_;  // the worker's until it has run
+    jobs::Scheduler& scheduler_;
+    Setup setup_;  // the first run's
     FrameHook on_frame_;
-    std::unique_ptr<DeformSession> session_;  // set once by the worker, before preparing_ ends
+    std::unique_ptr<DeformSession> session_;  // set once by the set-up, before preparing_ ends
     std::vector<std::uint32_t> moving_;
     std::vector<std::uint32_t> handle_vertices_;
     RegionNormals normals_;  // built by the set-up; then only the publisher reads it
@@ -245,12 +264,9 @@ private:
     // Guards the queue, the generations, the set-up's outcome and the slot
     // indices; held briefly.
     mutable std::mutex mutex_;
-    std::condition_variable work_ready_;
     std::condition_variable frame_ready_;
     std::vector<glm::dvec3> queued_targets_;
     bool has_queued_ = false;
-    bool stopping_ = false;
-    bool worker_polling_ = false;  // the worker looks for work by itself: no wake-up needed
     bool preparing_ = true;
     Status setup_status_;
     std::uint64_t first_generation_ = 0;
@@ -270,15 +286,16 @@ private:
     SessionMemory memory_;                 // under mutex_
     std::atomic<bool> stop_setup_{false};  // set by the destructor
 
-    // Held by whoever runs the DeformSession: the worker or solve_now.
+    // Held by whoever runs the DeformSession: a scheduled run or solve_now.
     std::mutex solve_mutex_;
-    std::uint64_t last_solved_ = 0;           // under solve_mutex_
-    std::vector<glm::dvec3> worker_targets_;  // the worker thread's own
+    std::uint64_t last_solved_ = 0;  // under solve_mutex_
+    // The targets a scheduled solve takes from the queue; the runs' own
+    // (the scheduler runs a task on one thread at a time).
+    std::vector<glm::dvec3> run_targets_;
+    bool set_up_ran_ = false;  // the runs' own, and the destructor's once withdrawn
     std::atomic<bool> interrupt_{false};
     std::chrono::steady_clock::time_point last_publish_;  // under solve_mutex_
     std::mutex read_mutex_;
-
-    std::thread worker_;
 };
 
 }  // namespace dfm::deform

@@ -56,7 +56,7 @@ struct DeformSettings {
     bool predict_frames = true;
     // Threads for the factor and its solves (not owned; must outlive the
     // session). Null: the calling thread alone. Results do not depend on it.
-    solver::ThreadPool* pool = nullptr;
+    jobs::WorkerPool* pool = nullptr;
     DeformMethod method = DeformMethod::fitted_rotations;
     // Weight of the rigidity rows against the dual Laplacian rows
     // (fitted_rotations only; 0 leaves the fitted rotations alone). More

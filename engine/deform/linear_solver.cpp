@@ -85,7 +85,7 @@ LinearSolver::LinearSolver(LinearSolver&&) noexcept = default;
 LinearSolver& LinearSolver::operator=(LinearSolver&&) noexcept = default;
 
 Status LinearSolver::setup(solver::CsrMatrix matrix, solver::PreconditionerKind preconditioner,
-                           solver::ThreadPool* pool, const std::atomic<bool>* stop) {
+                           jobs::WorkerPool* pool, const std::atomic<bool>* stop) {
     auto state = std::make_unique<State>();
     state->matrix = std::move(matrix);
     if (analyzed_ != nullptr && preconditioner == solver::PreconditionerKind::cholesky) {
@@ -110,7 +110,7 @@ Status LinearSolver::setup(solver::CsrMatrix matrix, solver::PreconditionerKind 
 }
 
 Status LinearSolver::analyze(const solver::CsrMatrix& pattern,
-                             solver::PreconditionerKind preconditioner, solver::ThreadPool* pool,
+                             solver::PreconditionerKind preconditioner, jobs::WorkerPool* pool,
                              const std::atomic<bool>* stop) {
     analyzed_.reset();
     if (preconditioner != solver::PreconditionerKind::cholesky) return Status::ok();

@@ -6,10 +6,10 @@
 #include <span>
 
 #include "core/status.hpp"
+#include "jobs/worker_pool.hpp"
 #include "solver/csr_matrix.hpp"
 #include "solver/preconditioner_kind.hpp"
 #include "solver/sparse_cholesky.hpp"
-#include "solver/thread_pool.hpp"
 
 namespace dfm::solver {
 class CholeskyPreconditioner;
@@ -32,7 +32,7 @@ public:
     // (optional) stops the complete factor's set-up part way
     // (solver::SparseCholesky::set_stop): Errc::cancelled.
     Status setup(solver::CsrMatrix matrix, solver::PreconditionerKind preconditioner,
-                 solver::ThreadPool* pool = nullptr, const std::atomic<bool>* stop = nullptr);
+                 jobs::WorkerPool* pool = nullptr, const std::atomic<bool>* stop = nullptr);
 
     // The complete factor's ordering and symbolic analysis from N's pattern
     // alone (`pattern`'s values are not read), ahead of N's values, so that
@@ -41,7 +41,7 @@ public:
     // other pattern it analyses again). Does nothing for the other
     // preconditioners. The arguments are setup's.
     Status analyze(const solver::CsrMatrix& pattern, solver::PreconditionerKind preconditioner,
-                   solver::ThreadPool* pool = nullptr, const std::atomic<bool>* stop = nullptr);
+                   jobs::WorkerPool* pool = nullptr, const std::atomic<bool>* stop = nullptr);
 
     enum class Accuracy {
         // Inside the outer iteration: with the complete factor, one step

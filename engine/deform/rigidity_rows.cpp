@@ -361,7 +361,7 @@ constexpr std::size_t split_minimum = 8192;
 
 double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
                                    std::span<const double> height_scale, int steps,
-                                   std::span<double> rhs, solver::ThreadPool* pool) {
+                                   std::span<double> rhs, jobs::WorkerPool* pool) {
     for (const FixedCoupling& c : fixed_) {
         const glm::dvec3& p = positions[c.vertex];
         double* out = &rhs[3 * c.unknown];

@@ -11,7 +11,7 @@
 #include "core/pooled_allocator.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
-#include "solver/thread_pool.hpp"
+#include "jobs/worker_pool.hpp"
 
 // The default method's local step (docs/method.md). Each dual row f gets a
 // rotation R_f fitted to its dual 1-ring, and its rows follow it: the dual
@@ -80,7 +80,7 @@ public:
     // With `pool` (optional) of two threads or more, a large ROI's rows are
     // fitted in two halves side by side, with the same bits.
     double fit_and_add(std::span<const glm::dvec3> positions, std::span<const double> height_scale,
-                       int steps, std::span<double> rhs, solver::ThreadPool* pool = nullptr);
+                       int steps, std::span<double> rhs, jobs::WorkerPool* pool = nullptr);
 
     // Makes the last fit the next one's starting point. A refused trial step
     // is not kept: the next fit starts again from the rotations before it.

@@ -4,7 +4,7 @@
 
 namespace dfm::solver {
 
-CholeskyPreconditioner::CholeskyPreconditioner(OrderingMethod ordering, ThreadPool* pool)
+CholeskyPreconditioner::CholeskyPreconditioner(OrderingMethod ordering, jobs::WorkerPool* pool)
     : ordering_(ordering), pool_(pool) {}
 
 Status CholeskyPreconditioner::setup(const CsrMatrix& a) {

@@ -100,7 +100,7 @@ std::size_t SparseCholesky::solve_work_size(std::size_t k, std::size_t threads) 
 }
 
 void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::size_t k,
-                           std::span<double> work, ThreadPool* pool) const {
+                           std::span<double> work, jobs::WorkerPool* pool) const {
     const CholeskySymbolic& sym = symbolic_;
     const std::size_t n = sym.n;
     double* y = work.data();

@@ -12,7 +12,7 @@ constexpr double infinity = std::numeric_limits<double>::infinity();
 
 // Runs body(begin, end, block) for every block of rows.
 template <class Body>
-void for_blocks(std::size_t n, ThreadPool* pool, Body&& body) {
+void for_blocks(std::size_t n, jobs::WorkerPool* pool, Body&& body) {
     run_tasks(pool, block_count(n),
               [&](std::size_t b) { body(b * block_rows, std::min(n, (b + 1) * block_rows), b); });
 }
@@ -40,7 +40,7 @@ void multiply_rows(const CsrMatrix& a, const double* x, double* y, std::size_t b
 }  // namespace
 
 void multiply(const CsrMatrix& a, std::span<const double> x, std::span<double> y, std::size_t k,
-              ThreadPool* pool) {
+              jobs::WorkerPool* pool) {
     for_blocks(a.rows, pool, [&](std::size_t begin, std::size_t end, std::size_t) {
         if (k == 3) return multiply_rows<3>(a, x.data(), y.data(), begin, end);
         if (k == 1) return multiply_rows<1>(a, x.data(), y.data(), begin, end);
@@ -57,7 +57,7 @@ void multiply(const CsrMatrix& a, std::span<const double> x, std::span<double> y
 }
 
 void dot(std::span<const double> x, std::span<const double> y, std::size_t n, std::size_t k,
-         std::span<double> out, std::span<double> partial, ThreadPool* pool) {
+         std::span<double> out, std::span<double> partial, jobs::WorkerPool* pool) {
     for_blocks(n, pool, [&](std::size_t begin, std::size_t end, std::size_t b) {
         double* sum = &partial[b * k];
         for (std::size_t c = 0; c < k; ++c) sum[c] = 0.0;
@@ -70,7 +70,7 @@ void dot(std::span<const double> x, std::span<const double> y, std::size_t n, st
 }
 
 void max_abs(std::span<const double> x, std::size_t n, std::size_t k, std::span<double> out,
-             std::span<double> partial, ThreadPool* pool) {
+             std::span<double> partial, jobs::WorkerPool* pool) {
     for_blocks(n, pool, [&](std::size_t begin, std::size_t end, std::size_t b) {
         double* largest = &partial[b * k];
         for (std::size_t c = 0; c < k; ++c) largest[c] = 0.0;

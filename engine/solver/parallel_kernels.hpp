@@ -3,8 +3,8 @@
 #include <cstddef>
 #include <span>
 
+#include "jobs/worker_pool.hpp"
 #include "solver/csr_matrix.hpp"
-#include "solver/thread_pool.hpp"
 
 // The Krylov solver's vector work on k interleaved vectors (x[j * k + c]),
 // split into fixed blocks of rows. Block partial results are combined in
@@ -23,15 +23,15 @@ constexpr std::size_t block_count(std::size_t n) {
 
 // y = A x; each row computed as CsrMatrix::multiply does.
 void multiply(const CsrMatrix& a, std::span<const double> x, std::span<double> y, std::size_t k,
-              ThreadPool* pool);
+              jobs::WorkerPool* pool);
 
 // out[c] = Σ_j x[j k + c] y[j k + c] for each c. `partial` holds
 // block_count(n) × k doubles.
 void dot(std::span<const double> x, std::span<const double> y, std::size_t n, std::size_t k,
-         std::span<double> out, std::span<double> partial, ThreadPool* pool);
+         std::span<double> out, std::span<double> partial, jobs::WorkerPool* pool);
 
 // out[c] = max_j |x[j k + c]|, a NaN counting as infinite.
 void max_abs(std::span<const double> x, std::size_t n, std::size_t k, std::span<double> out,
-             std::span<double> partial, ThreadPool* pool);
+             std::span<double> partial, jobs::WorkerPool* pool);
 
 }  // namespace dfm::solver::kernels

@@ -29,7 +29,7 @@ bool usable(double v) {
 
 // r = b − A x.
 void residual(const CsrMatrix& a, std::span<const double> b, std::span<const double> x,
-              std::span<double> r, std::size_t k, ThreadPool* pool) {
+              std::span<double> r, std::size_t k, jobs::WorkerPool* pool) {
     kernels::multiply(a, x, r, k, pool);
     for (std::size_t i = 0; i < a.rows * k; ++i) r[i] = b[i] - r[i];
 }
@@ -80,7 +80,7 @@ Status check_arguments(const CsrMatrix& a, const Preconditioner& m, std::span<co
 }
 
 // z = M⁻¹ r (and the shadow's), the error estimate max |z| and ρ = z̃ᵀ r.
-void precondition(Preconditioner& m, Iterate& it, ThreadPool* pool) {
+void precondition(Preconditioner& m, Iterate& it, jobs::WorkerPool* pool) {
     m.apply(it.r, it.z, it.k);
     if (it.general) m.apply_transposed(it.rs, it.zs, it.k);
     kernels::max_abs(it.z, it.n, it.k, it.error, it.partial, pool);
@@ -111,7 +111,7 @@ void update_directions(Iterate& it, bool first, PbcgResult& result) {
 
 // q = A p, α = ρ / p̃ᵀ q and x += α p for every running column (the shadow
 // residual steps by −α q̃); a column whose p̃ᵀ q vanished breaks down.
-void step_solution(const CsrMatrix& a, std::span<double> x, Iterate& it, ThreadPool* pool,
+void step_solution(const CsrMatrix& a, std::span<double> x, Iterate& it, jobs::WorkerPool* pool,
                    PbcgResult& result) {
     const std::size_t n = it.n;
     const std::size_t k = it.k;
@@ -157,7 +157,7 @@ void judge_columns(Iterate& it, double tolerance, std::size_t stagnation_limit,
 
 // Each column's last error estimate and true relative residual, and the
 // totals.
-void summarize(std::span<const double> b, Iterate& it, ThreadPool* pool, PbcgResult& result) {
+void summarize(std::span<const double> b, Iterate& it, jobs::WorkerPool* pool, PbcgResult& result) {
     kernels::dot(it.r, it.r, it.n, it.k, it.pq, it.partial, pool);
     kernels::dot(b, b, it.n, it.k, it.b_norm, it.partial, pool);
     result.iterations = 0;
@@ -179,7 +179,7 @@ Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double>
                   PbcgWorkspace& work, PbcgResult& result) {
     if (Status st = check_arguments(a, m, b, x, k, options, work); !st) return st;
     const std::size_t n = a.rows;
-    ThreadPool* pool = options.pool;
+    jobs::WorkerPool* pool = options.pool;
     constexpr std::size_t exact_stagnation_limit = 3;
     const std::size_t stagnation_limit = options.stagnation_limit != 0 ? options.stagnation_limit
                                          : m.is_exact()                ? exact_stagnation_limit

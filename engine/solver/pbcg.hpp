@@ -6,9 +6,9 @@
 
 #include "core/memory_bytes.hpp"
 #include "core/status.hpp"
+#include "jobs/worker_pool.hpp"
 #include "solver/csr_matrix.hpp"
 #include "solver/preconditioner.hpp"
-#include "solver/thread_pool.hpp"
 
 namespace dfm::solver {
 
@@ -34,7 +34,7 @@ struct PbcgOptions {
     bool symmetric = true;
     // Spreads the vector work and products with A over its threads (not
     // owned; null runs inline). Results are the same bits either way.
-    ThreadPool* pool = nullptr;
+    jobs::WorkerPool* pool = nullptr;
 };
 
 struct PbcgColumnResult {

@@ -2,7 +2,8 @@
 
 namespace dfm::solver {
 
-std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind, ThreadPool* pool) {
+std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind,
+                                                    jobs::WorkerPool* pool) {
     switch (kind) {
         case PreconditionerKind::jacobi: return std::make_unique<JacobiPreconditioner>();
         case PreconditionerKind::incomplete_cholesky:

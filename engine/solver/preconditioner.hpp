@@ -8,11 +8,11 @@
 
 #include "core/memory_bytes.hpp"
 #include "core/status.hpp"
+#include "jobs/worker_pool.hpp"
 #include "solver/csr_matrix.hpp"
 #include "solver/ordering.hpp"
 #include "solver/preconditioner_kind.hpp"
 #include "solver/sparse_cholesky.hpp"
-#include "solver/thread_pool.hpp"
 
 namespace dfm::solver {
 
@@ -101,7 +101,7 @@ public:
     // factorization and the solves over its threads; the results are the
     // same bits whatever the thread count.
     explicit CholeskyPreconditioner(OrderingMethod ordering = OrderingMethod::minimum_degree,
-                                    ThreadPool* pool = nullptr);
+                                    jobs::WorkerPool* pool = nullptr);
 
     // Fails when A is not square, its pattern not symmetric, or it is not
     // positive definite (Errc::numerical naming the row).
@@ -123,7 +123,7 @@ public:
 
 private:
     OrderingMethod ordering_;
-    ThreadPool* pool_;
+    jobs::WorkerPool* pool_;
     SparseCholesky cholesky_;
     std::vector<double> work_;
 };
@@ -131,6 +131,6 @@ private:
 // A new preconditioner of the given kind; `pool` is used by those that can
 // (the Cholesky factorization) and must outlive the result.
 std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind,
-                                                    ThreadPool* pool = nullptr);
+                                                    jobs::WorkerPool* pool = nullptr);
 
 }  // namespace dfm::solver

@@ -172,7 +172,7 @@ std::vector<std::size_t> split_rows(std::size_t begin, std::size_t end, std::siz
 // threads: the same operations on every entry, so the same bits.
 std::uint32_t factor_supernode_split(const CholeskySymbolic& sym, std::span<const double> a_values,
                                      std::span<double> l_values, std::uint32_t s,
-                                     std::span<CholeskyScratch> scratch, ThreadPool& pool) {
+                                     std::span<CholeskyScratch> scratch, jobs::WorkerPool& pool) {
     const std::size_t m = sym.row_begin[s + 1] - sym.row_begin[s];
     const std::size_t w = sym.column_begin[s + 1] - sym.column_begin[s];
     const std::size_t threads = pool.thread_count();
@@ -246,8 +246,8 @@ void factor_in_order(const CholeskySymbolic& sym, std::span<const double> a_valu
 // subtree at its first failure.
 void factor_subtrees(const CholeskySymbolic& sym, const CholeskySchedule& schedule,
                      std::span<const double> a_values, std::span<double> l_values,
-                     std::span<CholeskyScratch> scratch, ThreadPool& pool, FirstFailure& failure,
-                     const std::atomic<bool>* stop) {
+                     std::span<CholeskyScratch> scratch, jobs::WorkerPool& pool,
+                     FirstFailure& failure, const std::atomic<bool>* stop) {
     const std::size_t threads = pool.thread_count();
     std::vector<FirstFailure> failures(threads);
     pool.run(threads, [&](std::size_t t) {
@@ -269,7 +269,7 @@ void factor_subtrees(const CholeskySymbolic& sym, const CholeskySchedule& schedu
 // between the threads; none after the first failure so far.
 void factor_top(const CholeskySymbolic& sym, const CholeskySchedule& schedule,
                 std::span<const double> a_values, std::span<double> l_values,
-                std::span<CholeskyScratch> scratch, ThreadPool& pool, FirstFailure& failure,
+                std::span<CholeskyScratch> scratch, jobs::WorkerPool& pool, FirstFailure& failure,
                 const std::atomic<bool>* stop) {
     for (const std::uint32_t s : schedule.top) {
         if (s > failure.supernode || raised(stop)) break;
@@ -355,14 +355,14 @@ Status SparseCholesky::analyze(const CsrMatrix& a, std::span<const std::uint32_t
     return st;
 }
 
-Status SparseCholesky::compute(const CsrMatrix& a, OrderingMethod method, ThreadPool* pool) {
+Status SparseCholesky::compute(const CsrMatrix& a, OrderingMethod method, jobs::WorkerPool* pool) {
     if (!symbolic_.matches(a)) {
         if (Status st = analyze(a, method); !st) return st;
     }
     return factorize(a, pool);
 }
 
-Status SparseCholesky::factorize(const CsrMatrix& a, ThreadPool* pool) {
+Status SparseCholesky::factorize(const CsrMatrix& a, jobs::WorkerPool* pool) {
     factored_ = false;
     stopped_ = false;
     if (!symbolic_.matches(a))

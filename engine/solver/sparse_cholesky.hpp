@@ -8,11 +8,11 @@
 
 #include "core/pooled_allocator.hpp"
 #include "core/status.hpp"
+#include "jobs/worker_pool.hpp"
 #include "solver/cholesky_schedule.hpp"
 #include "solver/cholesky_symbolic.hpp"
 #include "solver/csr_matrix.hpp"
 #include "solver/ordering.hpp"
-#include "solver/thread_pool.hpp"
 
 namespace dfm::solver {
 
@@ -58,12 +58,12 @@ public:
     // positive definite, or NaN in A) fails with Errc::numerical naming the
     // column in A's numbering; the factor is then unusable. `pool` spreads
     // the work over its threads.
-    Status factorize(const CsrMatrix& a, ThreadPool* pool = nullptr);
+    Status factorize(const CsrMatrix& a, jobs::WorkerPool* pool = nullptr);
 
     // Analyses `a` unless its pattern is the one last analysed, then
     // factorizes it.
     Status compute(const CsrMatrix& a, OrderingMethod method = OrderingMethod::minimum_degree,
-                   ThreadPool* pool = nullptr);
+                   jobs::WorkerPool* pool = nullptr);
 
     // A flag (not owned; null: none) that analyze and factorize look at
     // between their phases and between supernodes: once it is true they
@@ -92,7 +92,7 @@ public:
     // the same span. Requires is_factored(). Allocation-free; concurrent
     // solves are safe when they use different work and pools.
     void solve(std::span<const double> b, std::span<double> x, std::size_t k,
-               std::span<double> work, ThreadPool* pool = nullptr) const;
+               std::span<double> work, jobs::WorkerPool* pool = nullptr) const;
 
     // The doubles of work a solve of k vectors on `threads` threads needs.
     std::size_t solve_work_size(std::size_t k, std::size_t threads = 1) const;

@@ -1,5 +1,6 @@
 #include <cstdlib>
 #include <memory>
+#include <system_error>
 
 #include "c_boundary.hpp"
 #include "objects.hpp"
@@ -32,6 +33,7 @@ void ContextState::emit(dfm_log_level level, dfm_log_id id, const std::string& m
 
 }  // namespace dfm::sdk
 
+using namespace dfm;
 using namespace dfm::sdk;
 
 namespace {
@@ -88,9 +90,15 @@ extern "C" DFM_API dfm_result dfm_context_create(const dfm_context_desc* desc, d
         state->allocator = d.allocator;
         state->log = d.log;
         state->log_user = d.log_user;
-        state->worker_count = d.worker_count == 0 ? 1 : d.worker_count;
         state->pick_thread_count = d.pick_thread_count;
         if (d.models_directory != nullptr) state->models_directory = d.models_directory;
+        try {
+            state->scheduler = std::make_unique<jobs::Scheduler>(
+                jobs::SchedulerConfig::threads(d.worker_count == 0 ? 1 : d.worker_count));
+        } catch (const std::system_error& e) {
+            return report(fn, DFM_ERROR_OUT_OF_MEMORY,
+                          std::string("could not start the context's worker threads: ") + e.what());
+        }
         *out = host_new<ContextObject>(*state, std::shared_ptr<const ContextState>(state));
         return DFM_OK;
     });

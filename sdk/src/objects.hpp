@@ -17,9 +17,9 @@
 #include "deform/mesh_model.hpp"
 #include "dualform/dualform.h"
 #include "handle_table.hpp"
+#include "jobs/scheduler.hpp"
 #include "mesh/host_mesh.hpp"
 #include "pick/embree_scene.hpp"
-#include "solver/thread_pool.hpp"
 
 namespace dfm::sdk {
 
@@ -32,12 +32,13 @@ struct ContextState {
     dfm_allocator allocator{};
     dfm_log_fn log = nullptr;
     void* log_user = nullptr;
-    std::uint32_t worker_count = 1;
     std::uint32_t pick_thread_count = 0;  // Embree's device; 0: Embree's default
     std::string models_directory;         // empty: model:NAME is not found
     // While any context state lives, large buffers that sessions free are
     // kept for the next set-up (buffer_pool.hpp, one pool per process).
     buffer_pool::Hold keeps_buffers;
+    // Runs the sessions' work; lives as long as any object of the context.
+    std::unique_ptr<jobs::Scheduler> scheduler;
 
     void* allocate(std::size_t size, std::size_t alignment) const {
         return host_allocate(allocator, size, alignment);
@@ -94,6 +95,13 @@ struct ContextObject {
     using Handle = dfm_context;
     static constexpr Kind kind = Kind::context;
     std::shared_ptr<const ContextState> state;
+
+    // The host lets go of the context: with its job system or stepping,
+    // the host's part of the work ends here (jobs::Scheduler::close); the
+    // pool's threads go on for the objects that outlive the handle.
+    ~ContextObject() {
+        if (state->scheduler->mode() != jobs::Mode::pool) state->scheduler->close();
+    }
 };
 
 struct MeshObject {
@@ -139,7 +147,6 @@ struct SessionObject {
     // copies (dfm_session_acquire_frame).
     std::vector<std::uint32_t> held_roi_vertices;
     std::vector<std::uint32_t> held_normal_vertices;
-    std::unique_ptr<solver::ThreadPool> pool;
     std::unique_ptr<deform::AsyncSession> async;  // last: stopped before the rest goes
 };
 

@@ -142,11 +142,9 @@ Status check_groups(std::size_t vertex_count, std::span<const std::uint32_t> roi
 // new one exists, so a failure leaves the session as it was.
 Status start_worker(SessionObject& s, std::shared_ptr<const deform::MeshModel> model,
                     std::uint64_t first_generation, std::uint64_t submitted_through) {
-    const std::uint32_t workers = s.mesh->context->worker_count;
-    std::unique_ptr<solver::ThreadPool> pool;
-    if (workers > 1) pool = std::make_unique<solver::ThreadPool>(workers);
+    jobs::Scheduler& scheduler = *s.mesh->context->scheduler;
     deform::DeformSettings settings = s.settings;
-    settings.pool = pool.get();
+    settings.pool = &scheduler;
     std::vector<glm::dvec3> handle_rest;
     handle_rest.reserve(s.handle_vertices.size());
     for (std::uint32_t v : s.handle_vertices) handle_rest.push_back(model->mesh.positions[v]);
@@ -168,14 +166,13 @@ Status start_worker(SessionObject& s, std::shared_ptr<const deform::MeshModel> m
     }
     std::unique_ptr<deform::AsyncSession> async;
     if (Status st = deform::AsyncSession::create(*model, s.roi, s.handle_vertices, std::move(setup),
-                                                 std::move(start), async);
+                                                 std::move(start), scheduler, async);
         !st) {
         return st;
     }
     {
         std::lock_guard<std::mutex> lock(s.staging_mutex);
         s.async.reset();
-        s.pool = std::move(pool);
         s.async = std::move(async);
         s.model = std::move(model);
         s.staged = handle_rest;

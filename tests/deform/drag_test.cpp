@@ -7,7 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "deform/deform_session.hpp"
-#include "solver/thread_pool.hpp"
+#include "jobs/scheduler.hpp"
 #include "support/procedural_meshes.hpp"
 
 // A drag as a host makes it: the handle's targets moved in equal steps,
@@ -168,7 +168,7 @@ TEST_CASE("deform: a drag gives the same bits with one and two workers") {
     REQUIRE(0.75 * static_cast<double>(model.mesh.vertex_count()) > 8192.0);
     deform::DeformSettings settings;
     const std::vector<Frame> alone = drag(model, settings, 4, {0.4, -0.2, 0.0});
-    solver::ThreadPool pool(2);
+    jobs::Scheduler pool(jobs::SchedulerConfig::threads(2));
     settings.pool = &pool;
     const std::vector<Frame> shared = drag(model, settings, 4, {0.4, -0.2, 0.0});
     for (std::size_t f = 0; f < alone.size(); ++f) {

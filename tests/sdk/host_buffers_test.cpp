@@ -192,15 +192,15 @@ int threads_named(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("threads: each session starts one named worker and worker_count - 1 solver threads") {
-    const int sessions_before = threads_named("dfm-session");
-    const int solvers_before = threads_named("dfm-solver");
+TEST_CASE("threads: a context's worker_count named workers serve all its sessions") {
+    const int before = threads_named("dfm-worker");
     dfm_context_desc desc = {};
     desc.struct_size = sizeof desc;
     desc.worker_count = 3;
     desc.pick_thread_count = 1;
     dfm_context* context = nullptr;
     REQUIRE(dfm_context_create(&desc, &context) == DFM_OK);
+    CHECK(threads_named("dfm-worker") == before + 3);
     const dfm::mesh::Mesh shape = make_limb(16, 20, 0.2, 2.0);
     dfm_mesh* mesh = make_c_mesh(context, shape);
     std::vector<std::uint32_t> region, tip;
@@ -215,23 +215,27 @@ TEST_CASE("threads: each session starts one named worker and worker_count - 1 so
     sd.roi = roi;
     sd.groups = &group;
     sd.group_count = 1;
-    dfm_session* session = nullptr;
-    REQUIRE(dfm_session_create(mesh, &sd, &session) == DFM_OK);
-    REQUIRE(dfm_session_wait(session, 0, -1, nullptr) == DFM_OK);
-    CHECK(threads_named("dfm-session") == sessions_before + 1);
-    CHECK(threads_named("dfm-solver") == solvers_before + 2);
+    std::vector<dfm_session*> sessions(5, nullptr);
+    for (dfm_session*& session : sessions) {
+        REQUIRE(dfm_session_create(mesh, &sd, &session) == DFM_OK);
+    }
+    for (dfm_session* session : sessions) {
+        REQUIRE(dfm_session_wait(session, 0, -1, nullptr) == DFM_OK);
+    }
+    CHECK(threads_named("dfm-worker") == before + 3);
     // Picking with a one-thread Embree device works as with the default.
     const double origin[3] = {0, 10, 0}, down[3] = {0, -1, 0};
     dfm_hit hit = {};
     REQUIRE(dfm_mesh_pick_ray(mesh, origin, down, &hit) == DFM_OK);
     CHECK(hit.hit);
-    dfm_session_destroy(session);
-    CHECK(threads_named("dfm-session") == sessions_before);
-    CHECK(threads_named("dfm-solver") == solvers_before);
+    for (dfm_session* session : sessions) dfm_session_destroy(session);
+    // The mesh outlives the context's handle, and the workers with it.
+    dfm_context_destroy(context);
+    CHECK(threads_named("dfm-worker") == before + 3);
+    dfm_roi_destroy(roi);
+    dfm_mesh_destroy(mesh);
+    CHECK(threads_named("dfm-worker") == before);
     desc.pick_thread_count = 5000;
     dfm_context* refused = nullptr;
     CHECK(dfm_context_create(&desc, &refused) == DFM_ERROR_INVALID_ARGUMENT);
-    dfm_roi_destroy(roi);
-    dfm_mesh_destroy(mesh);
-    dfm_context_destroy(context);
 }

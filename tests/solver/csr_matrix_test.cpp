@@ -2,10 +2,10 @@
 
 #include <vector>
 
+#include "jobs/scheduler.hpp"
 #include "solver/csr_matrix.hpp"
 #include "solver/parallel_kernels.hpp"
 #include "solver/test_matrices.hpp"
-#include "solver/thread_pool.hpp"
 
 using namespace dfm::solver;
 
@@ -50,7 +50,7 @@ TEST_CASE("solver: multiply and multiply_transposed match the dense product") {
 
 TEST_CASE("solver: the parallel product gives CsrMatrix::multiply's bits for every width") {
     const CsrMatrix a = dfm::test::random_nonsymmetric(3000, 9, 31);
-    ThreadPool pool(2);
+    dfm::jobs::Scheduler pool(dfm::jobs::SchedulerConfig::threads(2));
     for (const std::size_t k : {1u, 2u, 3u, 5u}) {
         CAPTURE(k);
         const std::vector<double> x = dfm::test::random_vector(a.cols * k, 32 + k);

@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "jobs/scheduler.hpp"
 #include "solver/pbcg.hpp"
 #include "solver/test_matrices.hpp"
 
@@ -32,7 +33,7 @@ Outcome run(const CsrMatrix& a, Preconditioner& m, const std::vector<double>& b,
 }
 
 std::unique_ptr<Preconditioner> prepared(PreconditionerKind kind, const CsrMatrix& a,
-                                         ThreadPool* pool = nullptr) {
+                                         dfm::jobs::WorkerPool* pool = nullptr) {
     std::unique_ptr<Preconditioner> m = make_preconditioner(kind, pool);
     REQUIRE(m->setup(a).is_ok());
     return m;
@@ -287,8 +288,9 @@ TEST_CASE("solver: PBCG is bit-identical with 1 and 2 threads") {
     for (const PreconditionerKind kind : all_kinds) {
         std::vector<Outcome> outcomes;
         for (const std::size_t threads : {0u, 1u, 2u}) {
-            ThreadPool pool(std::max<std::size_t>(threads, 1));
-            ThreadPool* used = threads == 0 ? nullptr : &pool;
+            dfm::jobs::Scheduler pool(
+                dfm::jobs::SchedulerConfig::threads(std::max<std::size_t>(threads, 1)));
+            dfm::jobs::WorkerPool* used = threads == 0 ? nullptr : &pool;
             auto m = prepared(kind, a, used);
             CAPTURE(m->name());
             PbcgOptions options;

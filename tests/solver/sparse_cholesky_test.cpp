@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "jobs/scheduler.hpp"
 #include "solver/elimination_tree.hpp"
 #include "solver/sparse_cholesky.hpp"
 #include "solver/test_matrices.hpp"
@@ -19,7 +20,7 @@ constexpr OrderingMethod all_methods[] = {
     OrderingMethod::identity, OrderingMethod::nested_dissection, OrderingMethod::minimum_degree};
 
 std::vector<double> cholesky_solve(const SparseCholesky& chol, const std::vector<double>& b,
-                                   std::size_t k, ThreadPool* pool = nullptr) {
+                                   std::size_t k, dfm::jobs::WorkerPool* pool = nullptr) {
     std::vector<double> x(b.size());
     std::vector<double> work(chol.solve_work_size(k, pool != nullptr ? pool->thread_count() : 1));
     chol.solve(b, x, k, work, pool);
@@ -253,7 +254,7 @@ TEST_CASE("solver: Cholesky factor and solve are bit-identical with 1, 2 and 3 t
         for (const OrderingMethod method :
              {OrderingMethod::minimum_degree, OrderingMethod::nested_dissection}) {
             CAPTURE(threads);
-            ThreadPool pool(threads);
+            dfm::jobs::Scheduler pool(dfm::jobs::SchedulerConfig::threads(threads));
             SparseCholesky chol;
             REQUIRE(chol.compute(a, method, &pool).is_ok());
             solutions.push_back(cholesky_solve(chol, b, 3, &pool));
@@ -272,7 +273,7 @@ TEST_CASE("solver: a raised stop flag ends analyze and factorize; a lowered one 
     const std::vector<double> b = dfm::test::random_vector(a.rows * 3, 22);
     for (const std::size_t threads : {1u, 3u}) {
         CAPTURE(threads);
-        ThreadPool pool(threads);
+        dfm::jobs::Scheduler pool(dfm::jobs::SchedulerConfig::threads(threads));
         SparseCholesky plain;
         REQUIRE(plain.compute(a, OrderingMethod::minimum_degree, &pool).is_ok());
         const std::vector<double> reference = cholesky_solve(plain, b, 3, &pool);

@@ -21,6 +21,7 @@
 #include "cholmod_peer.hpp"
 #endif
 #include "environment/host_environment.hpp"
+#include "jobs/scheduler.hpp"
 #include "json/json_writer.hpp"
 #include "measure.hpp"
 #include "mesh/load.hpp"
@@ -126,7 +127,7 @@ int main(int argc, char** argv) {
                      "[--krylov-max-vertices V] [--stagnation N]\n");
         return 2;
     }
-    solver::ThreadPool pool(settings.threads);
+    jobs::Scheduler pool(jobs::SchedulerConfig::threads(settings.threads));
     json::JsonWriter json(json::JsonWriter::Layout::indented);
     json.begin_object()
         .field("threads", settings.threads)

@@ -44,7 +44,7 @@ double relative_residual(const solver::CsrMatrix& a, const std::vector<double>& 
 }  // namespace
 
 FactorMeasure measure_factor(const TestSystem& system, solver::OrderingMethod ordering,
-                             solver::ThreadPool& pool, int repeat) {
+                             jobs::WorkerPool& pool, int repeat) {
     const solver::CsrMatrix& a = system.matrix;
     FactorMeasure out;
     out.ordering = ordering;
@@ -93,7 +93,7 @@ FactorMeasure measure_factor(const TestSystem& system, solver::OrderingMethod or
     return out;
 }
 
-Frame make_frame(const TestSystem& system, const mesh::Mesh& mesh, solver::ThreadPool& pool) {
+Frame make_frame(const TestSystem& system, const mesh::Mesh& mesh, jobs::WorkerPool& pool) {
     const solver::CsrMatrix& a = system.matrix;
     const std::size_t n = a.rows;
     Frame frame;

@@ -4,10 +4,10 @@
 #include <string>
 #include <vector>
 
+#include "jobs/worker_pool.hpp"
 #include "solver/ordering.hpp"
 #include "solver/pbcg.hpp"
 #include "solver/preconditioner.hpp"
-#include "solver/thread_pool.hpp"
 #include "test_system.hpp"
 
 namespace dfm::solver_bench {
@@ -33,7 +33,7 @@ struct FactorMeasure {
 };
 
 FactorMeasure measure_factor(const TestSystem& system, solver::OrderingMethod ordering,
-                             solver::ThreadPool& pool, int repeat);
+                             jobs::WorkerPool& pool, int repeat);
 
 // One frame of a drag: the previous solution is the mesh itself, the handle
 // moves by 1% of the diagonal, the solve starts from the previous solution
@@ -44,7 +44,7 @@ struct Frame {
     std::vector<double> reference;  // the new solution, from a refined direct solve
 };
 
-Frame make_frame(const TestSystem& system, const mesh::Mesh& mesh, solver::ThreadPool& pool);
+Frame make_frame(const TestSystem& system, const mesh::Mesh& mesh, jobs::WorkerPool& pool);
 
 struct SolveMeasure {
     std::string preconditioner;
