@@ -153,7 +153,7 @@ typedef struct dfm_context dfm_context;
  * alloc returns memory aligned to `alignment` (a power of two up to 64) or
  * NULL on failure, which the call reports as DFM_ERROR_OUT_OF_MEMORY. free
  * receives the size that was allocated. Both hooks may be called from any
- * thread, including session workers. */
+ * thread, including the threads that run the context's work. */
 typedef struct dfm_allocator {
     void* (*alloc)(void* user, size_t size, size_t alignment); /* NULL on failure */
     void (*free)(void* user, void* memory, size_t size);       /* size as allocated */
@@ -177,9 +177,44 @@ typedef enum dfm_log_id {
 } dfm_log_id;
 
 /* Receives diagnostics. Called on the thread that made the dfm_ call (never
- * on a session's worker: asynchronous outcomes are in dfm_frame_info);
+ * from the context's work: asynchronous outcomes are in dfm_frame_info);
  * `message` lives only during the call. */
 typedef void (*dfm_log_fn)(void* user, dfm_log_level level, dfm_log_id id, const char* message);
+
+/* Where a context's work runs: its sessions' set-ups and solves, and the
+ * solver's parallel loops inside them (sdk/README.md, "Threads"). Results do
+ * not depend on it, bit for bit. */
+typedef enum dfm_work_mode {
+    /* The default: the context starts worker_count threads ("dfm-worker"),
+     * shared by all its sessions, and stops them when the context and every
+     * object made from it are destroyed. */
+    DFM_WORK_POOL = 0,
+    /* The host's job system runs the work (dfm_context_desc.job_system);
+     * the library starts no thread. */
+    DFM_WORK_JOB_SYSTEM = 1,
+    /* No thread at all: the work runs on the host's thread inside
+     * dfm_context_step and inside the calls that wait for it
+     * (dfm_session_wait, dfm_session_solve, dfm_session_set_solver). */
+    DFM_WORK_HOST_STEPPED = 2
+} dfm_work_mode;
+
+/* One piece of a context's work handed to the host's job system: a
+ * session's set-up or solve, or a share of a parallel loop of one. */
+typedef struct dfm_job dfm_job;
+
+/* The host's job system (DFM_WORK_JOB_SYSTEM), as Jolt Physics takes one:
+ * the library hands jobs over, the host runs them on its workers. At most
+ * worker_count of the context's jobs work at once (one that ends may hand
+ * over the next just before it returns). A job never waits for a job that
+ * has not started, so a host may run them in any order, on any number of
+ * threads. */
+typedef struct dfm_job_system {
+    /* Hands `job` over: the host runs it exactly once, on any thread, with
+     * dfm_job_run, after enqueue has returned. Called from any thread
+     * (from inside jobs, too), with no lock of the library's held. */
+    void (*enqueue)(void* user, dfm_job* job);
+    void* user; /* passed to enqueue */
+} dfm_job_system;
 
 /* How a context is made; zero-initialised, every field takes its default. */
 typedef struct dfm_context_desc {
@@ -191,12 +226,13 @@ typedef struct dfm_context_desc {
     dfm_allocator allocator; /* both hooks NULL: malloc/free */
     dfm_log_fn log;          /* NULL: no logging */
     void* log_user;          /* passed to `log` */
-    /* Threads each session's solver uses for its set-up, factor, solves
-     * and rotation fit, its worker thread included; 0 means 1. Results do
-     * not depend on it, bit for bit. Where a core is free, 2 keeps a
-     * 20,000-vertex drag up with a 60 Hz host (docs/benchmarks.md). A
-     * session starts its worker ("dfm-session") and worker_count - 1
-     * solver threads ("dfm-solver"), and stops them when destroyed. */
+    /* The workers of the context's work, shared by all its sessions; 0
+     * means 1, at most 256. DFM_WORK_POOL: the threads the context starts.
+     * DFM_WORK_JOB_SYSTEM: how many jobs the host may run at once.
+     * DFM_WORK_HOST_STEPPED: 0 or 1 (the host's thread). A solve's
+     * parallel loops split their work by it; results do not depend on it,
+     * bit for bit. Where a core is free, 2 keeps a 20,000-vertex drag up
+     * with a 60 Hz host (docs/benchmarks.md). */
     uint32_t worker_count;
     /* Threads of the Embree device that picking builds (once per mesh, on
      * the first pick or click fill): 1 keeps the build on the calling
@@ -208,6 +244,11 @@ typedef struct dfm_context_desc {
      * DFM_ERROR_NOT_FOUND. The library reads no environment variable: a host
      * that wants DUALFORM_MODELS reads it and passes it here. */
     const char* models_directory;
+    /* Where the work runs; 0: DFM_WORK_POOL. */
+    dfm_work_mode work_mode;
+    /* DFM_WORK_JOB_SYSTEM: the host's job system, `enqueue` required; all
+     * zero in the other modes. */
+    dfm_job_system job_system;
 } dfm_context_desc;
 
 /* Creates a context; desc may be NULL for all defaults. *out receives the
@@ -216,8 +257,37 @@ DFM_API dfm_result dfm_context_create(const dfm_context_desc* desc, dfm_context*
 
 /* Releases the caller's reference. Objects created from the context keep what
  * they need alive, so destroying it first is safe. NULL is a no-op. Must not
- * race another call on the same context. Not thread-safe for this context. */
+ * race another call on the same context. Not thread-safe for this context.
+ * With DFM_WORK_POOL the threads stop once every object made from the
+ * context is destroyed too. With DFM_WORK_JOB_SYSTEM and
+ * DFM_WORK_HOST_STEPPED it ends the host's part at once: queued work is
+ * cancelled (a set-up that had not run ends with DFM_ERROR_CANCELLED, as do
+ * waits for queued targets), it waits for every job already handed over
+ * (so the host keeps its job system running until it returns, and does not
+ * call it from inside a job), and after it returns no job is handed over
+ * and none runs. Sessions that outlive it refuse dfm_session_submit with
+ * DFM_ERROR_CANCELLED; those whose set-up had ended still solve on the
+ * caller's thread (dfm_session_solve). */
 DFM_API void dfm_context_destroy(dfm_context* context);
+
+/* Runs a job the host's job system was handed (dfm_job_system.enqueue), on
+ * the calling thread: a piece of the work, or nothing when the work is
+ * already done. Every job handed over is run exactly once, also while the
+ * context is being destroyed. Thread-safe. */
+DFM_API void dfm_job_run(dfm_job* job);
+
+/* DFM_WORK_HOST_STEPPED: runs the context's queued work on the calling
+ * thread, the sessions' set-ups and solves one after the other in the order
+ * they were submitted (a session with newer targets queues again behind
+ * the others once its solve ends, so none starves). Once `budget_us`
+ * microseconds have passed it starts no further iteration: it returns at
+ * most one iteration past the budget (a set-up runs whole). A solve stopped
+ * there resumes first at the next step and finishes with the same bits as
+ * if it had not stopped; frames are published as with threads (previews,
+ * on_frame on this thread). 0: runs until no work is left. *work_left (may
+ * be NULL): whether work is still queued. Threads that step one context
+ * take turns. DFM_ERROR_UNSUPPORTED for a context in another mode. */
+DFM_API dfm_result dfm_context_step(dfm_context* context, uint64_t budget_us, bool* work_left);
 
 /* ---------------------------------------------------------------- mesh */
 
@@ -460,7 +530,7 @@ DFM_API void dfm_roi_destroy(dfm_roi* roi);
 /* Thread safety of session calls: set_group_transform, set_targets, submit,
  * poll, wait, the reads, acquire/release_frame and cancel may be called from
  * any threads at once (staging is under a lock that a solve never holds;
- * reads never wait for the worker). set_solver and bake must not run at the
+ * reads never wait for a solve). set_solver and bake must not run at the
  * same time as other calls on the same session, nor may any call race
  * destroy. Results land only in the caller's out-parameters. */
 
@@ -511,14 +581,15 @@ typedef struct dfm_handle_group {
 /* What a frame is (defined below). */
 typedef struct dfm_frame_info dfm_frame_info;
 
-/* Called on the thread that published a frame (the session's worker; the
- * caller's thread for dfm_session_solve), after it is published and
- * before the next one can be: partial, finished and set-up frames alike.
- * `info` lives only during the call. The callback may poll, read, acquire
- * and release frames of the session, and submit; it must not call cancel,
- * solve, set_solver, bake or destroy on the same session (they wait for
- * the thread that is running the callback), and must not throw. Keep it
- * short: the worker does not solve while it runs. */
+/* Called on the thread that published a frame (the thread running the
+ * context's work: a worker, a host job, the stepping thread; the caller's
+ * thread for dfm_session_solve), after it is published and before the next
+ * one can be: partial, finished and set-up frames alike. `info` lives only
+ * during the call. The callback may poll, read, acquire and release frames
+ * of the session, and submit; it must not call wait, cancel, solve,
+ * set_solver, bake or destroy on the same session (they wait for the
+ * thread that is running the callback), nor dfm_context_step, and must not
+ * throw. Keep it short: that thread does no other work while it runs. */
 typedef void (*dfm_frame_ready_fn)(void* user, dfm_session* session, const dfm_frame_info* info);
 
 /* One edit: the region, its handle groups and the solver's settings. */
@@ -535,7 +606,7 @@ typedef struct dfm_session_desc {
 /* Starts one edit and returns at once: the handle groups are checked here
  * (handle vertices must lie in the ROI, each once, in one group; errors name
  * the group and vertex), then the set-up (assembly, ordering, factorization)
- * runs on the session's new worker thread. Until it ends, frames show the
+ * is queued as the context's work (dfm_work_mode). Until it ends, frames show the
  * rest pose with `preparing` set, submitted targets wait for it, and cancel
  * and destroy work as usual (destroy stops the set-up part way: between its
  * phases and between the factorization's supernodes; on_frame then hears
@@ -547,15 +618,16 @@ typedef struct dfm_session_desc {
 DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_session_desc* desc,
                                       dfm_session** out);
 
-/* Stops the worker after its current iteration, or its set-up part way
- * (see dfm_session_create), joins it and frees the session; returns within
+/* Takes the session's work out of the context's line, stops its running
+ * solve after the current iteration or its set-up part way (see
+ * dfm_session_create), waits for that and frees the session; returns within
  * one iteration's time, or one phase's of a running set-up. NULL is a
  * no-op. Must not race another call on the same session. */
 DFM_API void dfm_session_destroy(dfm_session* session);
 
 /* Stages group `group`'s transform: a column-major 4x4 affine matrix applied
  * to the group's rest positions (translation in elements 12..14). Takes
- * effect at the next submit or solve. Never blocks on the worker. */
+ * effect at the next submit or solve. Never blocks on a solve. */
 DFM_API dfm_result dfm_session_set_group_transform(dfm_session* session, uint32_t group,
                                                    const double matrix[16]);
 
@@ -595,7 +667,7 @@ typedef struct dfm_session_memory {
 
 /* Fills *out with the session's working memory. While the set-up runs, the
  * parts it builds (factor, normal_matrix, iteration) are 0: they exist only
- * once it ends. Never blocks on the worker; thread safety as the reads. */
+ * once it ends. Never blocks on a solve; thread safety as the reads. */
 DFM_API dfm_result dfm_session_get_memory(dfm_session* session, dfm_session_memory* out);
 
 /* Changes the tolerance and iteration cap for later solves. handle_weight,
@@ -605,22 +677,27 @@ DFM_API dfm_result dfm_session_get_memory(dfm_session* session, dfm_session_memo
 DFM_API dfm_result dfm_session_set_solver(dfm_session* session,
                                           const dfm_solver_settings* settings);
 
-/* Hands the staged targets to the worker and returns at once with their
- * generation (1, 2, ...). Latest wins: queued targets not yet started are
- * replaced and never solved. A running solve goes on to convergence, so every
+/* Queues the staged targets as the context's work and returns at once with
+ * their generation (1, 2, ...). Latest wins: queued targets not yet started
+ * are replaced and never solved; the session keeps its place in the
+ * context's line, and one whose solve is running queues again behind the
+ * others once it ends. A running solve goes on to convergence, so every
  * finished frame is a converged (or iteration-capped) result; while it runs,
  * its iterate is published as a partial frame at most every 8 ms, so the
  * shape follows a fast drag. Non-finite targets: DFM_ERROR_NUMERICAL, nothing
- * queued. */
+ * queued. DFM_ERROR_CANCELLED after dfm_context_destroy with the host's
+ * job system or stepping. */
 DFM_API dfm_result dfm_session_submit(dfm_session* session, uint64_t* generation);
 
-/* Solves the staged targets on the calling thread (stopping the worker's
- * solve first) and publishes the frame; the result is bit for bit what the
- * worker would compute from the same state. For tools and tests. */
+/* Solves the staged targets on the calling thread (stopping the session's
+ * running solve first) and publishes the frame; the result is bit for bit
+ * what the context's work would compute from the same state. Its parallel
+ * loops take idle workers of the context. For tools and tests. */
 DFM_API dfm_result dfm_session_solve(dfm_session* session, uint64_t* generation);
 
 /* Drops queued targets and stops the running solve after its current
- * iteration; returns when the worker is idle. Published frames stay. */
+ * iteration; returns when no solve of the session runs. Published frames
+ * stay. */
 DFM_API dfm_result dfm_session_cancel(dfm_session* session);
 
 /* What a frame is. */
@@ -631,7 +708,8 @@ struct dfm_frame_info {
     bool partial;        /* stopped early for newer targets */
     uint32_t iterations; /* of the outer iteration */
     double last_update;  /* largest vertex move of the last iteration / diagonal */
-    double solve_ms;     /* wall time of the solve, in milliseconds */
+    double solve_ms;     /* time spent solving, in milliseconds (a solve that
+                            dfm_context_step stopped counts its runs only) */
     /* FNV-1a over the frame's ROI positions as 64-bit words: h starts at
      * 14695981039346656037 and, for each double's bits w (x, y, z of each
      * ROI vertex in order), becomes (h ^ w) * 1099511628211 mod 2^64. */
@@ -640,8 +718,8 @@ struct dfm_frame_info {
 };
 
 /* The newest published frame's info, and whether it is newer than
- * `known_generation`: the host's cheap per-frame check. Never blocks on the
- * worker. `is_new` may be NULL. */
+ * `known_generation`: the host's cheap per-frame check. Never blocks on a
+ * solve. `is_new` may be NULL. */
 DFM_API dfm_result dfm_session_poll(dfm_session* session, uint64_t known_generation,
                                     dfm_frame_info* out, bool* is_new);
 
@@ -654,7 +732,7 @@ DFM_API dfm_result dfm_session_wait(dfm_session* session, uint64_t generation, i
 
 /* Copies the newest frame's positions of the whole mesh into the host's
  * buffer (vertex_count entries), and its info into `info` (may be NULL). Never
- * returns a torn frame; the worker never waits for it. */
+ * returns a torn frame; a solve never waits for it. */
 DFM_API dfm_result dfm_session_read_positions(dfm_session* session, const dfm_vec3_output* out,
                                               dfm_frame_info* info);
 
@@ -706,7 +784,7 @@ typedef struct dfm_frame_view {
 } dfm_frame_view;
 
 /* Lends the newest frame: the cheapest read, constant time whatever the ROI
- * size. The worker keeps publishing into other buffers meanwhile. One frame
+ * size. Solves keep publishing into other buffers meanwhile. One frame
  * may be held per session: a second acquire is DFM_ERROR_BUSY. Other vertices
  * keep their rest positions and normals (dfm_mesh_read_positions).
  * On a mesh with split copies (dfm_mesh_desc) the view holds one entry per
@@ -724,7 +802,7 @@ DFM_API dfm_result dfm_session_release_frame(dfm_session* session);
  * solve; staged targets are not looked at), into the mesh's rest pose
  * (undoable with dfm_mesh_undo_bake). Queued and running solves are
  * dropped. The session then restarts on the new rest pose with the same
- * ROI and groups and identity transforms: its set-up runs on the worker as
+ * ROI and groups and identity transforms: its set-up is queued as
  * at creation (frames report `preparing`), and generations go on growing:
  * the restarted session's first frame carries the baked frame's
  * generation, and the next submit a generation above every earlier one.
