@@ -18,6 +18,7 @@ enum class Errc {
     numerical,
     internal,   // a defect of Dualform's, not of the caller's input
     cancelled,  // stopped by the caller's stop flag before it finished
+    busy,       // the object is in use in a way that forbids the call
 };
 
 const char* errc_name(Errc code);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
-#include <cmath>
 #include <cstring>
 #include <exception>
 #include <new>
@@ -85,26 +84,8 @@ AsyncSession::~AsyncSession() {
     }
 }
 
-Status AsyncSession::check_targets(std::span<const glm::dvec3> targets) const {
-    if (targets.size() != handle_vertices_.size()) {
-        return Status(Errc::invalid_argument,
-                      "expected " + std::to_string(handle_vertices_.size()) + " targets, got " +
-                          std::to_string(targets.size()));
-    }
-    for (std::size_t h = 0; h < targets.size(); ++h) {
-        if (!std::isfinite(targets[h].x) || !std::isfinite(targets[h].y) ||
-            !std::isfinite(targets[h].z)) {
-            return Status(Errc::numerical, "target " + std::to_string(h) + " (vertex " +
-                                               std::to_string(handle_vertices_[h]) +
-                                               ") is not finite; nothing was changed");
-        }
-    }
-    return Status::ok();
-}
-
 Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
     generation = 0;
-    if (Status s = check_targets(targets); !s) return s;
     std::uint64_t queued = 0;
     {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -171,7 +152,6 @@ bool AsyncSession::wait_until_set_up() {
 
 Status AsyncSession::solve_now(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
     generation = 0;
-    if (Status s = check_targets(targets); !s) return s;
     if (!wait_until_set_up()) return setup_status();
     {
         std::lock_guard<std::mutex> lock(mutex_);

@@ -106,10 +106,10 @@ public:
     AsyncSession(const AsyncSession&) = delete;
     AsyncSession& operator=(const AsyncSession&) = delete;
 
-    // Queues `targets` (one per handle vertex) for the scheduler and
-    // returns their generation. Never waits for a solve or the set-up.
-    // Non-finite targets, a wrong count, a failed set-up or a closed
-    // scheduler are refused and nothing is queued.
+    // Queues `targets` for the scheduler and returns their generation:
+    // finite, one per handle vertex (the caller's staging checked them,
+    // deform/edit.hpp). Never waits for a solve or the set-up. A failed
+    // set-up or a closed scheduler is refused and nothing is queued.
     Status submit(std::span<const glm::dvec3> targets, std::uint64_t& generation);
 
     // Drops queued targets and stops the running solve after its current
@@ -118,7 +118,7 @@ public:
     // as its next starting point.
     void cancel();
 
-    // Solves `targets` on the calling thread (refused like submit's), after
+    // Solves `targets` (as submit's) on the calling thread, after
     // waiting for the set-up and stopping the scheduled solve, and publishes
     // the frame as a scheduled solve would: the same arithmetic, so the
     // result is bit for bit what the scheduler computes from the same state.
@@ -222,8 +222,6 @@ private:
     // threads that run it, until `deadline`; true once done() holds.
     template <class Done>
     bool wait_until(Done&& done, jobs::Clock::time_point deadline);
-    // The count and finiteness of targets, checked before anything changes.
-    Status check_targets(std::span<const glm::dvec3> targets) const;
     // Solves for `targets` under solve_mutex_ and publishes the frame.
     Status solve_and_publish(std::span<const glm::dvec3> targets, std::uint64_t generation,
                              const std::atomic<bool>* interrupt, jobs::Clock::time_point deadline);

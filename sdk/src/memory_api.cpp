@@ -27,19 +27,21 @@ extern "C" DFM_API dfm_result dfm_mesh_get_memory(const dfm_mesh* mesh, dfm_mesh
         *out = dfm_mesh_memory{};
         MeshObject* m = resolve_mesh(mesh);
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
-        const MeshState& state = *m->state;
-        std::lock_guard<std::mutex> lock(state.mutex);
-        const deform::MeshModel::Memory current = state.model->memory();
-        out->rest_pose = current.mesh;
-        out->adjacency = current.adjacency;
-        out->model = current.dual;
-        // Each pose once, whichever lists hold it.
-        std::unordered_set<const deform::MeshModel*> counted{state.model.get()};
-        for (const auto* poses : {&state.undo, &state.redo}) {
-            for (const std::shared_ptr<const deform::MeshModel>& pose : *poses) {
-                if (counted.insert(pose.get()).second) out->history += model_bytes(*pose);
+        MeshState& state = *m->state;
+        // Each pose once, whichever lists hold it; the current one first.
+        std::unordered_set<const deform::MeshModel*> counted;
+        state.poses.for_each([&](const deform::MeshModel& pose) {
+            if (counted.empty()) {
+                const deform::MeshModel::Memory current = pose.memory();
+                out->rest_pose = current.mesh;
+                out->adjacency = current.adjacency;
+                out->model = current.dual;
+            } else if (counted.count(&pose) == 0) {
+                out->history += model_bytes(pose);
             }
-        }
+            counted.insert(&pose);
+        });
+        std::lock_guard<std::mutex> lock(state.scene_mutex);
         if (!state.scene.empty()) {
             const std::size_t vertices = state.scene.positions().size();
             const std::size_t triangles = state.scene.triangles().size();
@@ -60,27 +62,12 @@ extern "C" DFM_API dfm_result dfm_session_get_memory(dfm_session* session,
         *out = dfm_session_memory{};
         SessionObject* s = resolve_session(session);
         if (s == nullptr) return bad_handle(fn, "session", session);
-        deform::SessionMemory engine;
-        std::size_t staging = capacity_bytes(s->roi, s->groups, s->handle_vertices);
-        for (const std::vector<std::uint32_t>& group : s->groups) staging += capacity_bytes(group);
-        {
-            std::lock_guard<std::mutex> lock(s->staging_mutex);
-            engine = s->async->memory();
-            staging += capacity_bytes(s->staged, s->handle_rest, s->group_offsets);
-        }
-        {
-            std::lock_guard<std::mutex> lock(s->solving_mutex);
-            staging += capacity_bytes(s->solving);
-        }
-        {
-            std::lock_guard<std::mutex> lock(s->rest_normals_mutex);
-            staging += capacity_bytes(s->rest_normals);
-        }
+        const deform::SessionMemory engine = s->edit->memory();
         out->factor = engine.factor;
         out->normal_matrix = engine.system;
         out->iteration = engine.iteration;
         out->frames = engine.frames;
-        out->staging = engine.staging + staging;
+        out->staging = engine.staging;
         out->total = out->factor + out->normal_matrix + out->iteration + out->frames + out->staging;
         return DFM_OK;
     });

@@ -26,10 +26,8 @@ dfm_result make_mesh_handle(const ContextState& context,
     auto model =
         std::allocate_shared<deform::MeshModel>(HostAllocator<deform::MeshModel>(context.allocator),
                                                 deform::build_mesh_model(std::move(mesh)));
-    auto state = std::allocate_shared<MeshState>(HostAllocator<MeshState>(context.allocator));
-    state->context = shared;
-    state->host = std::move(host);
-    state->model = std::move(model);
+    auto state = std::allocate_shared<MeshState>(HostAllocator<MeshState>(context.allocator),
+                                                 shared, std::move(host), std::move(model));
     *out = host_new<MeshObject>(context, std::move(state));
     return DFM_OK;
 }
@@ -216,13 +214,9 @@ extern "C" DFM_API dfm_result dfm_mesh_get_info(const dfm_mesh* mesh, dfm_mesh_i
         MeshObject* m = resolve_mesh(mesh);
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
         const MeshState& state = *m->state;
-        std::shared_ptr<const deform::MeshModel> model;
-        {
-            std::lock_guard<std::mutex> lock(state.mutex);
-            model = state.model;
-            out->bake_count = state.undo.size();
-            out->redo_count = state.redo.size();
-        }
+        const std::shared_ptr<const deform::MeshModel> model = state.current();
+        out->bake_count = state.poses.undo_count();
+        out->redo_count = state.poses.redo_count();
         const mesh::MeshSummary summary = mesh::summarize(model->mesh);
         const HostNumbering numbering(state, summary.vertices);
         out->vertex_count = numbering.host_count();
@@ -380,42 +374,22 @@ extern "C" DFM_API dfm_result dfm_mesh_set_positions(dfm_mesh* mesh,
         auto posed = std::allocate_shared<deform::MeshModel>(
             HostAllocator<deform::MeshModel>(m->state->context->allocator));
         if (Status s = deform::bake_positions(*model, xyz, *posed); !s) return report(fn, s);
-        MeshState& state = *m->state;
-        std::lock_guard<std::mutex> lock(state.mutex);
-        if (state.model != model) {
-            return report(fn, DFM_ERROR_BUSY,
-                          "the rest pose changed (a bake, an undo or another update) during the "
-                          "call; nothing changed");
-        }
-        state.undo.reserve(state.undo.size() + 1);
-        state.undo.push_back(state.model);
-        state.redo.clear();
-        state.model = std::move(posed);
-        return DFM_OK;
+        return report(fn, m->state->poses.add_step(model, std::move(posed), nullptr));
     });
 }
 
 namespace {
 
-// Undo and redo: the current rest pose goes on one history stack and the top
-// of the other becomes current. The push is reserved first, so running out
-// of memory changes nothing.
+// Undo and redo: a step of the mesh's rest poses back or forth.
 dfm_result step_history(const char* fn, dfm_mesh* mesh, bool undo) {
     MeshObject* m = resolve_mesh(mesh);
     if (m == nullptr) return bad_handle(fn, "mesh", mesh);
     return guarded(fn, [&] {
-        MeshState& state = *m->state;
-        std::lock_guard<std::mutex> lock(state.mutex);
-        auto& from = undo ? state.undo : state.redo;
-        auto& to = undo ? state.redo : state.undo;
-        if (from.empty()) {
+        deform::RestPoses& poses = m->state->poses;
+        if (!(undo ? poses.undo() : poses.redo())) {
             return report(fn, DFM_ERROR_NOT_FOUND,
                           undo ? "no bake to undo" : "no undone bake to redo");
         }
-        to.reserve(to.size() + 1);
-        to.push_back(state.model);
-        state.model = from.back();
-        from.pop_back();
         return DFM_OK;
     });
 }

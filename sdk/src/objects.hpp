@@ -13,8 +13,9 @@
 #include <vector>
 
 #include "core/buffer_pool.hpp"
-#include "deform/async_session.hpp"
+#include "deform/edit.hpp"
 #include "deform/mesh_model.hpp"
+#include "deform/rest_poses.hpp"
 #include "dualform/dualform.h"
 #include "handle_table.hpp"
 #include "jobs/scheduler.hpp"
@@ -70,24 +71,25 @@ struct HostAllocator {
     }
 };
 
-// A mesh's history of rest poses: bakes push, undo and redo move between.
+// What a mesh handle stands for: its rest poses (bakes push, undo and redo
+// move between), the host's numbering and the pick scene.
 struct MeshState {
+    MeshState(std::shared_ptr<const ContextState> context, mesh::HostMesh host,
+              deform::RestPoses::Pose first)
+        : context(std::move(context)), host(std::move(host)), poses(std::move(first)) {}
+
     std::shared_ptr<const ContextState> context;
     // The host's numbering and the glTF asset, fixed for the mesh's life
     // (bakes move vertices, never renumber them); see host_numbering.hpp.
     mesh::HostMesh host;
-    mutable std::mutex mutex;
-    std::shared_ptr<const deform::MeshModel> model;
-    std::vector<std::shared_ptr<const deform::MeshModel>> undo;
-    std::vector<std::shared_ptr<const deform::MeshModel>> redo;
-    // Built on the first pick for `scene_model`, refit after a bake or undo.
+    deform::RestPoses poses;
+    // Built on the first pick for `scene_model`, refit after a bake or
+    // undo; under scene_mutex.
+    std::mutex scene_mutex;
     pick::EmbreeScene scene;
-    std::shared_ptr<const deform::MeshModel> scene_model;
+    deform::RestPoses::Pose scene_model;
 
-    std::shared_ptr<const deform::MeshModel> current() const {
-        std::lock_guard<std::mutex> lock(mutex);
-        return model;
-    }
+    deform::RestPoses::Pose current() const { return poses.current(); }
 };
 
 // The objects behind the C API's handles. Each names its handle type and
@@ -122,33 +124,11 @@ struct SessionObject {
     using Handle = dfm_session;
     static constexpr Kind kind = Kind::session;
     std::shared_ptr<MeshState> mesh;
-    std::shared_ptr<const deform::MeshModel> model;  // the rest pose it edits
-    std::vector<std::uint32_t> roi;
-    std::vector<std::vector<std::uint32_t>> groups;
-    std::vector<std::uint32_t> handle_vertices;  // the groups' vertices, in order
-    deform::DeformSettings settings;
-    dfm_session* handle = nullptr;
-    dfm_frame_ready_fn on_frame = nullptr;
-    void* on_frame_user = nullptr;
-    // The host's staged targets, one per handle vertex in group order, and
-    // the handles' rest positions the group transforms apply to. A submit
-    // hands them to the worker under the mutex.
-    std::mutex staging_mutex;
-    std::vector<glm::dvec3> staged;
-    std::vector<glm::dvec3> handle_rest;
-    std::vector<std::size_t> group_offsets;  // group g: [offsets[g], offsets[g + 1])
-    // What dfm_session_solve solves: the staged targets, copied out so that
-    // the solve holds no staging lock, into memory set up with the session.
-    std::mutex solving_mutex;
-    std::vector<glm::dvec3> solving;
-    // Of the whole rest pose, computed on the first whole-mesh normal read.
-    std::mutex rest_normals_mutex;
-    std::vector<glm::dvec3> rest_normals;
     // The held frame's lists in the host's numbering, on a mesh with split
     // copies (dfm_session_acquire_frame).
     std::vector<std::uint32_t> held_roi_vertices;
     std::vector<std::uint32_t> held_normal_vertices;
-    std::unique_ptr<deform::AsyncSession> async;  // last: stopped before the rest goes
+    std::unique_ptr<deform::Edit> edit;  // last: stopped before the rest goes
 };
 
 static_assert(sizeof(void*) == sizeof(std::uint64_t), "handles are 64-bit values");

@@ -13,18 +13,19 @@ using namespace dfm::sdk;
 namespace dfm::sdk {
 
 Status with_scene(MeshState& state, const std::function<Status(const pick::EmbreeScene&)>& use) {
-    std::lock_guard<std::mutex> lock(state.mutex);
-    const deform::MeshModel& model = *state.model;
+    std::lock_guard<std::mutex> lock(state.scene_mutex);
+    const deform::RestPoses::Pose current = state.current();
+    const deform::MeshModel& model = *current;
     if (state.scene.empty()) {
         if (Status s = pick::EmbreeScene::create(model.mesh.positions, model.mesh.triangles,
                                                  state.scene, state.context->pick_thread_count);
             !s) {
             return s;
         }
-    } else if (state.scene_model != state.model) {
+    } else if (state.scene_model != current) {
         if (Status s = state.scene.refit(model.mesh.positions); !s) return s;
     }
-    state.scene_model = state.model;
+    state.scene_model = current;
     return use(state.scene);
 }
 

@@ -40,23 +40,8 @@ extern "C" DFM_API dfm_result dfm_session_measure_quality(dfm_session* session, 
         if (s == nullptr) return bad_handle(fn, "session", session);
         if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
         *out = dfm_quality{};
-        const deform::AsyncSession& async = *s->async;
-        const deform::MeshModel& model = async.model();
-        std::vector<glm::dvec3> deformed = model.mesh.positions;
-        std::vector<std::uint8_t> in_roi(model.mesh.vertex_count(), 0);
-        for (const std::uint32_t v : s->roi) in_roi[v] = 1;
-        s->async->read([&](const deform::Frame& f) {
-            const std::span<const std::uint32_t> moving = async.moving();
-            for (std::size_t i = 0; i < moving.size(); ++i) deformed[moving[i]] = f.positions[i];
-            fill_frame_info(f, info);
-        });
-        std::vector<glm::dvec3> targets;
-        {
-            std::lock_guard<std::mutex> lock(s->staging_mutex);
-            targets = s->staged;
-        }
         const deform::QualityReport q =
-            deform::measure_quality(model, deformed, in_roi, async.handle_vertices(), targets);
+            s->edit->measure_quality([&](const deform::Frame& f) { fill_frame_info(f, info); });
         out->max_handle_error = q.max_handle_error;
         out->mean_abs_log_edge = q.mean_abs_log_edge;
         out->max_abs_log_edge = q.max_abs_log_edge;
@@ -78,12 +63,12 @@ extern "C" DFM_API dfm_result dfm_session_get_solve_report(dfm_session* session,
         if (s == nullptr) return bad_handle(fn, "session", session);
         if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
         *out = dfm_solve_report{};
-        const deform::SetupReport setup = s->async->setup_report();
+        const deform::SetupReport setup = s->edit->async().setup_report();
         out->unknowns = setup.unknowns;
         out->rows = setup.rows;
         out->normal_nonzeros = setup.normal_nonzeros;
         out->setup_ms = setup.setup_ms;
-        s->async->read([&](const deform::Frame& f) {
+        s->edit->async().read([&](const deform::Frame& f) {
             out->krylov_iterations = f.report.krylov_iterations;
             out->linear_residual = f.report.linear_residual;
             out->linear_converged = f.report.linear_converged;
@@ -111,13 +96,13 @@ extern "C" DFM_API dfm_result dfm_session_get_solve_details(dfm_session* session
         const std::size_t size = struct_size != 0 ? struct_size : solve_details_first;
         details = dfm_solve_details{};
         details.struct_size = struct_size;
-        const deform::SetupReport setup = s->async->setup_report();
+        const deform::SetupReport setup = s->edit->async().setup_report();
         details.setup_rows_ms = setup.rows_ms;
         details.setup_assembly_ms = setup.assembly_ms;
         details.setup_ordering_ms = setup.ordering_ms;
         details.setup_symbolic_ms = setup.symbolic_ms;
         details.setup_numeric_ms = setup.numeric_ms;
-        s->async->read([&](const deform::Frame& f) {
+        s->edit->async().read([&](const deform::Frame& f) {
             details.linear_solve_ms = f.report.linear_ms;
             details.right_hand_side_ms = f.report.rhs_ms;
             details.normals_ms = f.report.normals_ms;

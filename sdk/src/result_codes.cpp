@@ -15,6 +15,7 @@ dfm_result to_result(Errc code) {
         case Errc::numerical: return DFM_ERROR_NUMERICAL;
         case Errc::internal: return DFM_ERROR_INTERNAL;
         case Errc::cancelled: return DFM_ERROR_CANCELLED;
+        case Errc::busy: return DFM_ERROR_BUSY;
     }
     return DFM_ERROR_INVALID_ARGUMENT;
 }

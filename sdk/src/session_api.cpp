@@ -137,53 +137,6 @@ Status check_groups(std::size_t vertex_count, std::span<const std::uint32_t> roi
     return Status::ok();
 }
 
-// Starts (or restarts, after a bake) the session's worker on `model`: the
-// set-up runs there. The session's earlier worker is stopped only once the
-// new one exists, so a failure leaves the session as it was.
-Status start_worker(SessionObject& s, std::shared_ptr<const deform::MeshModel> model,
-                    std::uint64_t first_generation, std::uint64_t submitted_through) {
-    jobs::Scheduler& scheduler = *s.mesh->context->scheduler;
-    deform::DeformSettings settings = s.settings;
-    settings.pool = &scheduler;
-    std::vector<glm::dvec3> handle_rest;
-    handle_rest.reserve(s.handle_vertices.size());
-    for (std::uint32_t v : s.handle_vertices) handle_rest.push_back(model->mesh.positions[v]);
-    deform::AsyncSession::Setup setup = [model, &roi = s.roi, &groups = s.groups, settings](
-                                            std::unique_ptr<deform::DeformSession>& out,
-                                            const std::atomic<bool>* stop) {
-        return deform::DeformSession::create(*model, roi, groups, settings, out, stop);
-    };
-    deform::AsyncSession::Start start;
-    start.first_generation = first_generation;
-    start.submitted_through = submitted_through;
-    if (s.on_frame != nullptr) {
-        start.on_frame = [fn = s.on_frame, user = s.on_frame_user,
-                          handle = s.handle](const deform::Frame& frame) {
-            dfm_frame_info info{};
-            fill_frame_info(frame, &info);
-            fn(user, handle, &info);
-        };
-    }
-    std::unique_ptr<deform::AsyncSession> async;
-    if (Status st = deform::AsyncSession::create(*model, s.roi, s.handle_vertices, std::move(setup),
-                                                 std::move(start), scheduler, async);
-        !st) {
-        return st;
-    }
-    {
-        std::lock_guard<std::mutex> lock(s.staging_mutex);
-        s.async.reset();
-        s.async = std::move(async);
-        s.model = std::move(model);
-        s.staged = handle_rest;
-        s.solving = handle_rest;
-        s.handle_rest = std::move(handle_rest);
-    }
-    std::lock_guard<std::mutex> lock(s.rest_normals_mutex);
-    s.rest_normals.clear();
-    return Status::ok();
-}
-
 // Resolves the session handle of a call, or records why it is not live.
 SessionObject* session_of(const char* fn, const dfm_session* session, dfm_result& result) {
     SessionObject* s = resolve_session(session);
@@ -223,10 +176,8 @@ extern "C" DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_sessi
         deform::DeformSettings settings;
         if (Status s = settings_from(d.solver, settings); !s) return report(fn, s);
         std::vector<std::vector<std::uint32_t>> groups(d.group_count);
-        std::vector<std::size_t> offsets{0};
         for (std::size_t g = 0; g < groups.size(); ++g) {
             groups[g].assign(d.groups[g].vertices, d.groups[g].vertices + d.groups[g].count);
-            offsets.push_back(offsets.back() + groups[g].size());
         }
         const auto model = m->state->current();
         const HostNumbering numbering(*m->state, model->mesh.vertex_count());
@@ -243,22 +194,23 @@ extern "C" DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_sessi
         }
         dfm_session* handle = host_new<SessionObject>(*m->state->context);
         SessionObject& session = *resolve_session(handle);
+        deform::AsyncSession::FrameHook on_frame;
+        if (d.on_frame != nullptr) {
+            on_frame = [fn = d.on_frame, user = d.on_frame_user,
+                        handle](const deform::Frame& frame) {
+                dfm_frame_info info{};
+                fill_frame_info(frame, &info);
+                fn(user, handle, &info);
+            };
+        }
         // Filling the session allocates too; a failure there must not leave
         // a live, half-built handle behind.
         try {
             session.mesh = m->state;
-            session.roi = roi->vertices;
-            for (const auto& group : groups) {
-                session.handle_vertices.insert(session.handle_vertices.end(), group.begin(),
-                                               group.end());
-            }
-            session.groups = std::move(groups);
-            session.group_offsets = std::move(offsets);
-            session.settings = settings;
-            session.handle = handle;
-            session.on_frame = d.on_frame;
-            session.on_frame_user = d.on_frame_user;
-            if (Status s = start_worker(session, model, 0, 0); !s) {
+            if (Status s = deform::Edit::create(model, roi->vertices, std::move(groups), settings,
+                                                std::move(on_frame), *m->state->context->scheduler,
+                                                session.edit);
+                !s) {
                 host_delete<SessionObject>(handle);
                 return report(fn, s);
             }
@@ -283,26 +235,7 @@ extern "C" DFM_API dfm_result dfm_session_set_group_transform(dfm_session* sessi
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
         if (matrix == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "matrix is NULL");
-        if (group >= s->groups.size()) {
-            return report(fn, DFM_ERROR_OUT_OF_RANGE,
-                          "group " + std::to_string(group) + " is out of range (the session has " +
-                              std::to_string(s->groups.size()) + ")");
-        }
-        for (int i = 0; i < 16; ++i) {
-            if (!std::isfinite(matrix[i])) {
-                return report(fn, DFM_ERROR_NUMERICAL,
-                              "matrix element " + std::to_string(i) + " is not finite");
-            }
-        }
-        std::lock_guard<std::mutex> lock(s->staging_mutex);
-        for (std::size_t h = s->group_offsets[group]; h < s->group_offsets[group + 1]; ++h) {
-            const glm::dvec3& p = s->handle_rest[h];
-            for (int c = 0; c < 3; ++c) {
-                s->staged[h][c] =
-                    matrix[c] * p.x + matrix[4 + c] * p.y + matrix[8 + c] * p.z + matrix[12 + c];
-            }
-        }
-        return DFM_OK;
+        return report(fn, s->edit->set_group_transform(group, matrix));
     });
 }
 
@@ -316,22 +249,9 @@ extern "C" DFM_API dfm_result dfm_session_set_targets(dfm_session* session,
         if (std::string e = check_vec3_input(targets, "targets"); !e.empty()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
         }
-        std::lock_guard<std::mutex> lock(s->staging_mutex);
-        if (targets->count != s->staged.size()) {
-            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
-                          "targets->count is " + std::to_string(targets->count) +
-                              ", the session has " + std::to_string(s->staged.size()) +
-                              " handle vertices");
-        }
-        for (std::size_t h = 0; h < targets->count; ++h) {
-            const glm::dvec3 t = read_vec3(*targets, h);
-            if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z)) {
-                return report(fn, DFM_ERROR_NUMERICAL,
-                              "target " + std::to_string(h) + " is not finite; nothing was staged");
-            }
-        }
-        for (std::size_t h = 0; h < targets->count; ++h) s->staged[h] = read_vec3(*targets, h);
-        return DFM_OK;
+        return report(fn, s->edit->set_targets(targets->count, [&](std::size_t h) {
+            return read_vec3(*targets, h);
+        }));
     });
 }
 
@@ -344,7 +264,7 @@ extern "C" DFM_API dfm_result dfm_session_get_handle_count(const dfm_session* se
         dfm_result r = DFM_OK;
         const SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
-        *out = s->group_offsets.back();
+        *out = s->edit->handle_count();
         return DFM_OK;
     });
 }
@@ -363,38 +283,26 @@ extern "C" DFM_API dfm_result dfm_session_set_solver(dfm_session* session,
                               "settings->reserved[" + std::to_string(i) + "] is not zero");
             }
         }
-        if ((settings->handle_weight != 0.0 &&
-             settings->handle_weight != s->settings.handle_weight) ||
-            (settings->hard_handles && !s->settings.hard_handles)) {
-            return report(fn, DFM_ERROR_UNSUPPORTED,
-                          "handle_weight and hard_handles are fixed when the session is created");
-        }
-        solver::PreconditionerKind preconditioner = s->settings.preconditioner;
-        if (preconditioner_value(settings->preconditioner) != DFM_PRECONDITIONER_DEFAULT &&
-            !preconditioner_from(settings->preconditioner, preconditioner)) {
-            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "settings->preconditioner is unknown");
-        }
-        if (preconditioner != s->settings.preconditioner ||
-            (settings->disable_prediction && s->settings.predict_frames)) {
-            return report(fn, DFM_ERROR_UNSUPPORTED,
-                          "preconditioner and disable_prediction are fixed when the session is "
-                          "created");
+        deform::Edit::SolverChange change;
+        if (preconditioner_value(settings->preconditioner) != DFM_PRECONDITIONER_DEFAULT) {
+            solver::PreconditionerKind preconditioner{};
+            if (!preconditioner_from(settings->preconditioner, preconditioner)) {
+                return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                              "settings->preconditioner is unknown");
+            }
+            change.preconditioner = preconditioner;
         }
         if (settings->tolerance != 0.0 &&
             (!(settings->tolerance > 0.0) || !std::isfinite(settings->tolerance))) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, "tolerance must be positive and finite");
         }
-        deform::DeformSettings next = s->settings;
-        if (settings->tolerance != 0.0) next.tolerance = settings->tolerance;
-        if (settings->max_iterations != 0) {
-            next.max_iterations =
-                static_cast<int>(std::min<std::uint32_t>(settings->max_iterations, 1000000));
-        }
-        if (Status st = s->async->set_stopping_rule(next.tolerance, next.max_iterations); !st) {
-            return report(fn, st);
-        }
-        s->settings = next;
-        return DFM_OK;
+        change.tolerance = settings->tolerance;
+        change.max_iterations =
+            static_cast<int>(std::min<std::uint32_t>(settings->max_iterations, 1000000));
+        change.handle_weight = settings->handle_weight;
+        change.hard_handles = settings->hard_handles;
+        change.disable_prediction = settings->disable_prediction;
+        return report(fn, s->edit->change_solver(change));
     });
 }
 
@@ -406,12 +314,7 @@ extern "C" DFM_API dfm_result dfm_session_submit(dfm_session* session, uint64_t*
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
         std::uint64_t g = 0;
-        {
-            // The worker's queue takes its copy under the staging lock, so
-            // no other thread's staging can change what is read.
-            std::lock_guard<std::mutex> lock(s->staging_mutex);
-            if (Status st = s->async->submit(s->staged, g); !st) return report(fn, st);
-        }
+        if (Status st = s->edit->submit(g); !st) return report(fn, st);
         if (generation != nullptr) *generation = g;
         return DFM_OK;
     });
@@ -424,21 +327,15 @@ extern "C" DFM_API dfm_result dfm_session_solve(dfm_session* session, uint64_t* 
         dfm_result r = DFM_OK;
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
-        std::lock_guard<std::mutex> solving(s->solving_mutex);
-        {
-            std::lock_guard<std::mutex> lock(s->staging_mutex);
-            std::copy(s->staged.begin(), s->staged.end(), s->solving.begin());
-        }
         std::uint64_t g = 0;
-        const Status st = s->async->solve_now(s->solving, g);
+        bool converged = false;
+        const Status st = s->edit->solve(g, converged);
         if (generation != nullptr) *generation = g;
         const auto& context = *s->mesh->context;
         if (!st) {
             context.emit(DFM_LOG_ERROR, DFM_LOG_ID_SOLVE_FAILED, st.message());
             return report(fn, st);
         }
-        bool converged = true;
-        s->async->read([&](const deform::Frame& f) { converged = f.report.converged; });
         if (!converged) {
             context.emit(DFM_LOG_WARNING, DFM_LOG_ID_SOLVE_NOT_CONVERGED,
                          "generation " + std::to_string(g) +
@@ -454,7 +351,7 @@ extern "C" DFM_API dfm_result dfm_session_cancel(dfm_session* session) {
         dfm_result r = DFM_OK;
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
-        s->async->cancel();
+        s->edit->async().cancel();
         return DFM_OK;
     });
 }
@@ -469,7 +366,7 @@ extern "C" DFM_API dfm_result dfm_session_poll(dfm_session* session, uint64_t kn
         dfm_result r = DFM_OK;
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
-        s->async->read([&](const deform::Frame& f) { fill_frame_info(f, out); });
+        s->edit->async().read([&](const deform::Frame& f) { fill_frame_info(f, out); });
         if (is_new != nullptr) *is_new = out->generation > known_generation;
         return DFM_OK;
     });
@@ -483,16 +380,16 @@ extern "C" DFM_API dfm_result dfm_session_wait(dfm_session* session, uint64_t ge
         dfm_result r = DFM_OK;
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
-        if (generation > s->async->submitted_generation()) {
+        if (generation > s->edit->async().submitted_generation()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT,
                           "generation " + std::to_string(generation) +
                               " was never submitted (the newest is " +
-                              std::to_string(s->async->submitted_generation()) + ")");
+                              std::to_string(s->edit->async().submitted_generation()) + ")");
         }
         const auto timeout = timeout_ms < 0 ? std::chrono::nanoseconds::max()
                                             : std::chrono::nanoseconds(std::chrono::milliseconds(
                                                   std::min<int64_t>(timeout_ms, 1000000000)));
-        switch (s->async->wait(generation, timeout)) {
+        switch (s->edit->async().wait(generation, timeout)) {
             case deform::AsyncSession::WaitResult::ready: break;
             case deform::AsyncSession::WaitResult::cancelled:
                 return report(fn, DFM_ERROR_CANCELLED,
@@ -503,21 +400,12 @@ extern "C" DFM_API dfm_result dfm_session_wait(dfm_session* session, uint64_t ge
                                   std::to_string(timeout_ms) + " ms");
         }
         if (out != nullptr)
-            s->async->read([&](const deform::Frame& f) { fill_frame_info(f, out); });
+            s->edit->async().read([&](const deform::Frame& f) { fill_frame_info(f, out); });
         return DFM_OK;
     });
 }
 
 namespace {
-
-const std::vector<glm::dvec3>& rest_normals(SessionObject& s) {
-    std::lock_guard<std::mutex> lock(s.rest_normals_mutex);
-    if (s.rest_normals.empty()) {
-        const deform::MeshModel& model = s.async->model();
-        mesh::compute_vertex_normals(model.mesh, model.mesh.positions, s.rest_normals);
-    }
-    return s.rest_normals;
-}
 
 // Copies the newest frame into a whole-mesh array: rest values for the part
 // that does not move, the frame's for the rest. `normals` picks which.
@@ -528,17 +416,17 @@ dfm_result read_whole(const char* fn, dfm_session* session, const dfm_vec3_outpu
         dfm_result r = DFM_OK;
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
-        const deform::MeshModel& model = s->async->model();
+        const deform::MeshModel& model = s->edit->async().model();
         const HostNumbering numbering(*s->mesh, model.mesh.vertex_count());
         if (std::string e = check_vec3_output(out, numbering.host_count(), "out"); !e.empty()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
         }
         const std::span<const glm::dvec3> rest =
-            normals ? std::span<const glm::dvec3>(rest_normals(*s)) : model.mesh.positions;
+            normals ? std::span<const glm::dvec3>(s->edit->rest_normals()) : model.mesh.positions;
         numbering.write_all(*out, rest);
-        s->async->read([&](const deform::Frame& f) {
+        s->edit->async().read([&](const deform::Frame& f) {
             const std::span<const std::uint32_t> changing =
-                normals ? f.normal_vertices : s->async->moving();
+                normals ? f.normal_vertices : s->edit->async().moving();
             const auto& values = normals ? f.normals : f.positions;
             for (std::size_t i = 0; i < changing.size(); ++i) {
                 numbering.write_one(*out, changing[i], values[i]);
@@ -582,7 +470,7 @@ extern "C" DFM_API dfm_result dfm_session_read_vertices(dfm_session* session,
         if (s == nullptr) return r;
         dfm_vertex_output o;
         if (r = read_descriptor(fn, "out", out, vertex_output_0_2, o); r != DFM_OK) return r;
-        const deform::MeshModel& model = s->async->model();
+        const deform::MeshModel& model = s->edit->async().model();
         const HostNumbering numbering(*s->mesh, model.mesh.vertex_count());
         const std::size_t n = numbering.host_count();
         if (o.data == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out->data is NULL");
@@ -613,15 +501,15 @@ extern "C" DFM_API dfm_result dfm_session_read_vertices(dfm_session* session,
                 }
             }
             if (o.write_normals) {
-                const std::vector<glm::dvec3>& rest = rest_normals(*s);
+                const std::vector<glm::dvec3>& rest = s->edit->rest_normals();
                 for (std::uint32_t v = 0; v < surface; ++v) {
                     numbering.for_copies(
                         v, [&](std::uint32_t h) { put_vec3(o, h, o.normal_offset, rest[v]); });
                 }
             }
         }
-        const std::span<const std::uint32_t> moving = s->async->moving();
-        s->async->read([&](const deform::Frame& f) {
+        const std::span<const std::uint32_t> moving = s->edit->async().moving();
+        s->edit->async().read([&](const deform::Frame& f) {
             if (o.write_positions) {
                 for (std::size_t i = 0; i < moving.size(); ++i) {
                     numbering.for_copies(moving[i], [&](std::uint32_t h) {
@@ -663,10 +551,11 @@ extern "C" DFM_API dfm_result dfm_session_read_roi_positions(dfm_session* sessio
         dfm_result r = DFM_OK;
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
-        if (std::string e = check_vec3_output(out, s->async->moving().size(), "out"); !e.empty()) {
+        if (std::string e = check_vec3_output(out, s->edit->async().moving().size(), "out");
+            !e.empty()) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
         }
-        s->async->read([&](const deform::Frame& f) {
+        s->edit->async().read([&](const deform::Frame& f) {
             if (out->type == DFM_SCALAR_FLOAT32 && (out->stride == 0 || out->stride == 12)) {
                 std::memcpy(out->data, f.positions_f32.data(),
                             f.positions_f32.size() * sizeof(float));
@@ -689,26 +578,27 @@ extern "C" DFM_API dfm_result dfm_session_acquire_frame(dfm_session* session, df
         dfm_result r = DFM_OK;
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
-        const deform::Frame* frame = s->async->acquire();
+        const deform::Frame* frame = s->edit->async().acquire();
         if (frame == nullptr) {
             return report(fn, DFM_ERROR_BUSY, "a frame is already held; release it first");
         }
         out->roi_positions = frame->positions_f32.data();
         out->roi_positions_f64 = &frame->positions.front().x;
-        out->roi_vertices = s->async->moving().data();
+        out->roi_vertices = s->edit->async().moving().data();
         out->roi_count = frame->positions.size();
         out->normals = frame->normals_f32.data();
         out->normal_vertices = frame->normal_vertices.data();
-        const HostNumbering numbering(*s->mesh, s->async->model().mesh.vertex_count());
+        const HostNumbering numbering(*s->mesh, s->edit->async().model().mesh.vertex_count());
         if (!numbering.identity()) {
             // The lists in the host's numbering, held with the frame (one
             // frame at a time, so one pair of lists suffices).
             try {
-                s->held_roi_vertices.assign(s->async->moving().begin(), s->async->moving().end());
+                s->held_roi_vertices.assign(s->edit->async().moving().begin(),
+                                            s->edit->async().moving().end());
                 s->held_normal_vertices.assign(frame->normal_vertices.begin(),
                                                frame->normal_vertices.end());
             } catch (...) {
-                s->async->release();
+                s->edit->async().release();
                 throw;
             }
             numbering.to_host(s->held_roi_vertices);
@@ -728,7 +618,8 @@ extern "C" DFM_API dfm_result dfm_session_release_frame(dfm_session* session) {
         dfm_result r = DFM_OK;
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
-        if (!s->async->release()) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "no frame is held");
+        if (!s->edit->async().release())
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, "no frame is held");
         return DFM_OK;
     });
 }
@@ -740,57 +631,10 @@ dfm_result bake(const char* fn, dfm_session* session, std::uint64_t generation) 
         dfm_result r = DFM_OK;
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
-        if (s->async->holding()) {
-            return report(fn, DFM_ERROR_BUSY, "a frame is held; release it before baking");
-        }
-        if (s->async->preparing()) {
-            return report(fn, DFM_ERROR_BUSY,
-                          "the session is preparing: nothing is solved yet to bake");
-        }
-        if (Status st = s->async->setup_status(); !st) return report(fn, st);
         MeshState& mesh = *s->mesh;
-        if (mesh.current() != s->model) {
-            return report(fn, DFM_ERROR_BUSY,
-                          "the mesh's rest pose changed (a bake or an undo) since this session "
-                          "started; create a new session to edit it");
-        }
-        // The frame exactly as it was published: what the host showed.
-        std::vector<glm::dvec3> positions = s->model->mesh.positions;
-        const std::span<const std::uint32_t> moving = s->async->moving();
-        std::uint64_t baked_generation = 0;
-        const bool found = s->async->read_finished(generation, [&](const deform::Frame& f) {
-            for (std::size_t i = 0; i < moving.size(); ++i) positions[moving[i]] = f.positions[i];
-            baked_generation = f.generation;
-        });
-        if (!found) {
-            std::uint64_t newest = 0;
-            s->async->read_finished(0, [&](const deform::Frame& f) { newest = f.generation; });
-            return report(fn, DFM_ERROR_NOT_FOUND,
-                          "generation " + std::to_string(generation) +
-                              " is not the newest finished frame (that is generation " +
-                              std::to_string(newest) + ")");
-        }
         auto baked = std::allocate_shared<deform::MeshModel>(
             HostAllocator<deform::MeshModel>(mesh.context->allocator));
-        if (Status st = deform::bake_positions(*s->model, positions, *baked); !st) {
-            return report(fn, st);
-        }
-        // Under the mesh's lock from the check to the new rest pose, so that
-        // no other bake or undo slips in; the restart does not wait for a
-        // set-up (that runs on the new worker).
-        std::lock_guard<std::mutex> lock(mesh.mutex);
-        if (mesh.model != s->model) {
-            return report(fn, DFM_ERROR_BUSY, "the mesh's rest pose changed during the bake");
-        }
-        mesh.undo.reserve(mesh.undo.size() + 1);
-        if (Status st = start_worker(*s, baked, baked_generation, s->async->submitted_generation());
-            !st) {
-            return report(fn, st);
-        }
-        mesh.undo.push_back(mesh.model);
-        mesh.redo.clear();
-        mesh.model = std::move(baked);
-        return DFM_OK;
+        return report(fn, s->edit->bake(mesh.poses, generation, std::move(baked)));
     });
 }
 
