@@ -1,5 +1,7 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -94,4 +96,53 @@ TEST_CASE("bake: generations keep growing across bakes, so a host's poll sees ne
     CHECK_FALSE(info.preparing);
     REQUIRE(dfm_session_bake(limb.session) == DFM_OK);
     CHECK(move_and_wait(limb.session, 0.1) == 6);
+}
+
+TEST_CASE("bake: undo and redo that bring a session's own pose back let it bake again") {
+    LimbEdit limb;
+    move_and_wait(limb.session, 0.2);
+    // A second session on the same mesh bakes: the first one's pose is gone.
+    const dfm_handle_group group = {limb.tip.data(), limb.tip.size()};
+    dfm_session_desc desc = {};
+    desc.roi = limb.roi;
+    desc.groups = &group;
+    desc.group_count = 1;
+    dfm_session* other = nullptr;
+    REQUIRE(dfm_session_create(limb.mesh, &desc, &other) == DFM_OK);
+    move_and_wait(other, -0.2);
+    REQUIRE(dfm_session_bake(other) == DFM_OK);
+    CHECK(dfm_session_bake(limb.session) == DFM_ERROR_BUSY);
+    CHECK(message_has("rest pose changed"));
+    // Undo brings the first session's pose back: it may bake again.
+    REQUIRE(dfm_mesh_undo_bake(limb.mesh) == DFM_OK);
+    REQUIRE_MESSAGE(dfm_session_bake(limb.session) == DFM_OK, last_error());
+    // That bake forgot the redo; an undo and a redo of its own come back to it.
+    CHECK(dfm_mesh_redo_bake(limb.mesh) == DFM_ERROR_NOT_FOUND);
+    REQUIRE(dfm_mesh_undo_bake(limb.mesh) == DFM_OK);
+    REQUIRE(dfm_mesh_redo_bake(limb.mesh) == DFM_OK);
+    REQUIRE(dfm_session_wait(limb.session, 0, -1, nullptr) == DFM_OK);
+    CHECK(dfm_session_bake(limb.session) == DFM_OK);
+    dfm_session_destroy(other);
+}
+
+TEST_CASE("bake: a frame of identity transforms after a drag is baked as solved, near the rest") {
+    LimbEdit limb;
+    const std::size_t n = limb.shape.vertex_count();
+    const std::vector<double> rest = rest_positions(limb.mesh, n);
+    move_and_wait(limb.session, 0.4);
+    move_and_wait(limb.session, 0.0);
+    REQUIRE(dfm_session_bake(limb.session) == DFM_OK);
+    const std::vector<double> baked = rest_positions(limb.mesh, n);
+    dfm_mesh_info info = {};
+    REQUIRE(dfm_mesh_get_info(limb.mesh, &info) == DFM_OK);
+    double largest = 0.0;
+    for (std::size_t i = 0; i < baked.size(); ++i)
+        largest = std::max(largest, std::abs(baked[i] - rest[i]));
+    MESSAGE("largest move of a baked identity frame: " << largest / info.diagonal
+                                                       << " of the diagonal");
+    // A few tolerances (1e-5 of the diagonal) from the rest pose, not on it.
+    CHECK(largest > 0.0);
+    CHECK(largest < 1e-3 * info.diagonal);
+    REQUIRE(dfm_mesh_undo_bake(limb.mesh) == DFM_OK);
+    CHECK(rest_positions(limb.mesh, n) == rest);
 }

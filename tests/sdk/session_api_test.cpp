@@ -4,6 +4,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "dualform/dualform.h"
@@ -179,6 +180,44 @@ TEST_CASE("session: a held frame view is whole and blocks only a second hold and
     CHECK(info.generation == g);
     REQUIRE(dfm_session_release_frame(limb.session) == DFM_OK);
     CHECK(dfm_session_acquire_frame(limb.session, nullptr, nullptr) == DFM_ERROR_INVALID_ARGUMENT);
+}
+
+TEST_CASE("session: the held frame is the session's: another thread may give it back") {
+    LimbEdit limb;
+    REQUIRE(dfm_session_wait(limb.session, 0, -1, nullptr) == DFM_OK);
+    dfm_frame_view view = {};
+    REQUIRE(dfm_session_acquire_frame(limb.session, &view, nullptr) == DFM_OK);
+    dfm_result acquired_elsewhere = DFM_OK, released_elsewhere = DFM_ERROR_INTERNAL;
+    std::thread other([&] {
+        dfm_frame_view second = {};
+        acquired_elsewhere = dfm_session_acquire_frame(limb.session, &second, nullptr);
+        released_elsewhere = dfm_session_release_frame(limb.session);
+    });
+    other.join();
+    CHECK(acquired_elsewhere == DFM_ERROR_BUSY);
+    CHECK(released_elsewhere == DFM_OK);
+    CHECK(dfm_session_release_frame(limb.session) == DFM_ERROR_INVALID_ARGUMENT);
+    CHECK(dfm_session_acquire_frame(limb.session, &view, nullptr) == DFM_OK);
+    CHECK(dfm_session_release_frame(limb.session) == DFM_OK);
+}
+
+TEST_CASE("session: a finite transform whose targets overflow is refused when staged") {
+    LimbEdit limb;
+    double m[16];
+    translation(0.2, 0.0, 0.0, m);
+    REQUIRE(dfm_session_set_group_transform(limb.session, 0, m) == DFM_OK);
+    double huge[16];
+    translation(0.0, 0.0, 0.0, huge);
+    huge[0] = huge[5] = huge[10] = std::numeric_limits<double>::max();
+    CHECK(dfm_session_set_group_transform(limb.session, 0, huge) == DFM_ERROR_NUMERICAL);
+    CHECK(message_has("of group 0 beyond the finite numbers"));
+    // Nothing was staged: the submit solves the earlier transform.
+    std::uint64_t g = 0;
+    REQUIRE(dfm_session_submit(limb.session, &g) == DFM_OK);
+    dfm_frame_info info = {};
+    REQUIRE(dfm_session_wait(limb.session, g, -1, &info) == DFM_OK);
+    CHECK(info.status == DFM_OK);
+    CHECK(info.converged);
 }
 
 TEST_CASE("session: session misuse is refused with a code and a message") {

@@ -627,12 +627,19 @@ DFM_API void dfm_session_destroy(dfm_session* session);
 
 /* Stages group `group`'s transform: a column-major 4x4 affine matrix applied
  * to the group's rest positions (translation in elements 12..14). Takes
- * effect at the next submit or solve. Never blocks on a solve. */
+ * effect at the next submit or solve. Never blocks on a solve.
+ * DFM_ERROR_OUT_OF_RANGE for a group past the last; DFM_ERROR_NUMERICAL for
+ * a matrix element that is not finite, or a finite matrix that takes a
+ * handle's target beyond the finite numbers (the message names the group
+ * and vertex); nothing is staged then. */
 DFM_API dfm_result dfm_session_set_group_transform(dfm_session* session, uint32_t group,
                                                    const double matrix[16]);
 
 /* Stages explicit targets, one per handle vertex in group order (see
- * dfm_session_get_handle_count); replaces the group transforms' targets. */
+ * dfm_session_get_handle_count); replaces the group transforms' targets.
+ * DFM_ERROR_INVALID_ARGUMENT for another count, DFM_ERROR_NUMERICAL for a
+ * target that is not finite; nothing is staged then. Staged targets are
+ * always finite. */
 DFM_API dfm_result dfm_session_set_targets(dfm_session* session, const dfm_vec3_input* targets);
 
 /* Number of handle vertices (targets) of the session. */
@@ -684,9 +691,9 @@ DFM_API dfm_result dfm_session_set_solver(dfm_session* session,
  * others once it ends. A running solve goes on to convergence, so every
  * finished frame is a converged (or iteration-capped) result; while it runs,
  * its iterate is published as a partial frame at most every 8 ms, so the
- * shape follows a fast drag. Non-finite targets: DFM_ERROR_NUMERICAL, nothing
- * queued. DFM_ERROR_CANCELLED after dfm_context_destroy with the host's
- * job system or stepping. */
+ * shape follows a fast drag (staging refused targets that are not finite).
+ * DFM_ERROR_CANCELLED after dfm_context_destroy with the host's job system
+ * or stepping. */
 DFM_API dfm_result dfm_session_submit(dfm_session* session, uint64_t* generation);
 
 /* Solves the staged targets on the calling thread (stopping the session's
@@ -785,7 +792,9 @@ typedef struct dfm_frame_view {
 
 /* Lends the newest frame: the cheapest read, constant time whatever the ROI
  * size. Solves keep publishing into other buffers meanwhile. One frame
- * may be held per session: a second acquire is DFM_ERROR_BUSY. Other vertices
+ * may be held per session, and the hold is the session's, not a thread's:
+ * a second acquire, from any thread, is DFM_ERROR_BUSY, and
+ * dfm_session_release_frame from any thread gives the frame back. Other vertices
  * keep their rest positions and normals (dfm_mesh_read_positions).
  * On a mesh with split copies (dfm_mesh_desc) the view holds one entry per
  * surface vertex: roi_vertices and normal_vertices name each by its lowest
@@ -795,7 +804,8 @@ typedef struct dfm_frame_view {
 DFM_API dfm_result dfm_session_acquire_frame(dfm_session* session, dfm_frame_view* out,
                                              dfm_frame_info* info);
 
-/* Gives the held frame back. DFM_ERROR_INVALID_ARGUMENT when none is held. */
+/* Gives the session's held frame back, whichever thread acquired it.
+ * DFM_ERROR_INVALID_ARGUMENT when none is held. */
 DFM_API dfm_result dfm_session_release_frame(dfm_session* session);
 
 /* Bakes the newest finished frame, exactly as published (never a new
@@ -806,11 +816,18 @@ DFM_API dfm_result dfm_session_release_frame(dfm_session* session);
  * at creation (frames report `preparing`), and generations go on growing:
  * the restarted session's first frame carries the baked frame's
  * generation, and the next submit a generation above every earlier one.
- * DFM_ERROR_BUSY when the mesh has changed since the session was created
- * (another bake or an undo), while a frame is held
+ * DFM_ERROR_BUSY while the mesh's current rest pose is not the one the
+ * session edits (after another bake, an undo, or dfm_mesh_set_positions;
+ * undo and redo that bring the session's own pose back make it current
+ * again, and the session may bake), while a frame is held
  * (dfm_session_acquire_frame), or while the session is preparing; a
  * session whose set-up failed reports that failure.
- * Not concurrent with other calls on the session. */
+ * The frame is baked as solved, not as the targets ask: a solve lands
+ * within a few tolerances of the exact shape, so a frame of identity
+ * transforms after a drag differs from the rest pose by about that much,
+ * and baking it moves the rest pose by that much (dfm_mesh_undo_bake
+ * returns the exact pose; the untouched start frame bakes without a
+ * change). Not concurrent with other calls on the session. */
 DFM_API dfm_result dfm_session_bake(dfm_session* session);
 
 /* The same for the finished frame of generation `generation`, which must
