@@ -6,7 +6,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtx/quaternion.hpp>
 
-#include "core/cpu_features.hpp"
+#include "core/simd.hpp"
 #include "deform/rotation_fit_lanes.hpp"
 
 // The pass over the rows is also compiled for AVX2 and for AVX-512 (its 32
@@ -174,17 +174,17 @@ struct FitPass {
 
 // Two doubles, the width every x86-64 processor has: the slots go three
 // pairs at a time, in registers.
-using Lanes = double __attribute__((vector_size(16)));
-constexpr std::size_t lanes = slots / 2;
-using SlotLanes = std::array<Lanes, lanes>;
+using simd::Doubles2;
+constexpr std::size_t lanes = slots / simd::lanes<Doubles2>;
+using SlotLanes = std::array<Doubles2, lanes>;
 
-[[gnu::always_inline]] inline Lanes lanes_at(const double* a) {
-    Lanes v;
+[[gnu::always_inline]] inline Doubles2 lanes_at(const double* a) {
+    Doubles2 v;
     std::memcpy(&v, a, sizeof v);
     return v;
 }
 
-[[gnu::always_inline]] inline double lane_sum(const Lanes& v) {
+[[gnu::always_inline]] inline double lane_sum(const Doubles2& v) {
     return v[0] + v[1];
 }
 
@@ -213,16 +213,16 @@ struct PreparedRow {
     for (std::size_t l = 0; l < lanes; ++l) {
         const glm::dvec3& u = pass.positions[s.vertex[2 * l]];
         const glm::dvec3& w = pass.positions[s.vertex[2 * l + 1]];
-        p[0][l] = Lanes{u.x, w.x};
-        p[1][l] = Lanes{u.y, w.y};
-        p[2][l] = Lanes{u.z, w.z};
+        p[0][l] = Doubles2{u.x, w.x};
+        p[1][l] = Doubles2{u.y, w.y};
+        p[2][l] = Doubles2{u.z, w.z};
     }
     // |A_k p|² does not depend on the fit: taken before it.
     double rows2 = 0.0;
     std::array<SlotLanes, 3>& g = out.g;
     std::array<SlotLanes, 3> e;
     for (std::size_t x = 0; x < 3; ++x) {
-        Lanes product = lanes_at(&s.dual[0]) * p[x][0];
+        Doubles2 product = lanes_at(&s.dual[0]) * p[x][0];
         for (std::size_t l = 1; l < lanes; ++l) product += lanes_at(&s.dual[2 * l]) * p[x][l];
         const double dual = lane_sum(product);
         rows2 += dual * dual;
@@ -243,7 +243,7 @@ struct PreparedRow {
     out.rows2 = rows2;
     for (int row = 0; row < 3; ++row) {
         for (int column = 0; column < 3; ++column) {
-            Lanes sum = e[row][0] * g[column][0];
+            Doubles2 sum = e[row][0] * g[column][0];
             for (std::size_t l = 1; l < lanes; ++l) sum += e[row][l] * g[column][l];
             covariance.m[column][row][lane] = lane_sum(sum);
         }
@@ -336,19 +336,19 @@ double fit_rows_plain(const FitPass& pass) {
 }
 
 #if DFM_X86_DISPATCH
-__attribute__((target("avx2"))) double fit_rows_avx2(const FitPass& pass) {
+DFM_TARGET_AVX2 double fit_rows_avx2(const FitPass& pass) {
     return fit_rows_body(pass);
 }
 
-__attribute__((target("avx512f,avx512vl"))) double fit_rows_avx512(const FitPass& pass) {
+DFM_TARGET_AVX512 double fit_rows_avx512(const FitPass& pass) {
     return fit_rows_body(pass);
 }
 #endif
 
 double fit_rows(const FitPass& pass) {
 #if DFM_X86_DISPATCH
-    if (cpu::has_avx512vl()) return fit_rows_avx512(pass);
-    if (cpu::has_avx2()) return fit_rows_avx2(pass);
+    if (simd::widest() == simd::Set::avx512) return fit_rows_avx512(pass);
+    if (simd::widest() == simd::Set::avx2) return fit_rows_avx2(pass);
 #endif
     return fit_rows_plain(pass);
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/simd.hpp"
 #include "deform/rotation_fit.hpp"
 
 // fit_rotation (rotation_fit.hpp) for four covariances at once, one per
@@ -21,10 +22,10 @@ namespace dfm::deform {
 
 namespace fit_lanes {
 
-using Quad = double __attribute__((vector_size(32)));
-using Mask = std::int64_t __attribute__((vector_size(32)));  // all ones where true
+using Quad = simd::Doubles4;
+using Mask = std::int64_t __attribute__((vector_size(sizeof(Quad))));  // all ones where true
 
-inline constexpr std::size_t width = 4;
+inline constexpr std::size_t width = simd::lanes<Quad>;
 
 struct Quat {
     Quad w, x, y, z;

@@ -3,19 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/cpu_features.hpp"
+#include "core/simd.hpp"
 
 // The arithmetic kernels are also compiled for AVX2, and the product and the
 // triangular solve for AVX-512, and picked at run time where the processor
-// has them: wider vectors, the same multiplications and additions in the
-// same order (no fused multiply–add: the library builds with
-// -ffp-contract=off), so the same bits. The transpose, which only moves
-// values, has an AVX-512 build alone. The choice is an ordinary branch
-// rather than an ifunc, which sanitizers' start-up code does not survive.
+// has them (core/simd.hpp): wider vectors, the same bits. The transpose,
+// which only moves values, has an AVX-512 build alone.
 #if DFM_X86_DISPATCH
 #include <immintrin.h>
-#define DFM_TARGET_AVX2 __attribute__((target("avx2")))
-#define DFM_TARGET_AVX512 __attribute__((target("avx512f")))
 #endif
 
 namespace dfm::solver::dense {
@@ -113,17 +108,7 @@ template <class Rows>
     }
 }
 
-// The widest set the processor runs (plain where no other is built).
-KernelSet widest_set() {
-    if (cpu::has_avx512f()) return KernelSet::avx512;
-    if (cpu::has_avx2()) return KernelSet::avx2;
-    return KernelSet::plain;
-}
-
 #if DFM_X86_DISPATCH
-bool avx2_available() {
-    return widest_set() >= KernelSet::avx2;
-}
 
 // Sixteen registers of four doubles: eight accumulators of an 8×4 tile.
 template <bool subtract>
@@ -359,10 +344,10 @@ DFM_TARGET_AVX512 void transpose_avx512(std::size_t count, std::size_t w, const 
 
 }  // namespace
 
-void transpose(KernelSet set, std::size_t count, std::size_t w, const double* rows,
+void transpose(simd::Set set, std::size_t count, std::size_t w, const double* rows,
                std::size_t stride, double* out, std::size_t out_stride) {
 #if DFM_X86_DISPATCH
-    if (set == KernelSet::avx512) return transpose_avx512(count, w, rows, stride, out, out_stride);
+    if (set == simd::Set::avx512) return transpose_avx512(count, w, rows, stride, out, out_stride);
 #endif
     for (std::size_t i = 0; i < count; ++i)
         for (std::size_t t = 0; t < w; ++t) out[t * out_stride + i] = rows[i * stride + t];
@@ -370,18 +355,14 @@ void transpose(KernelSet set, std::size_t count, std::size_t w, const double* ro
 
 void transpose(std::size_t count, std::size_t w, const double* rows, std::size_t stride,
                double* out, std::size_t out_stride) {
-    transpose(widest_set(), count, w, rows, stride, out, out_stride);
+    transpose(simd::widest(), count, w, rows, stride, out, out_stride);
 }
 
-bool kernel_set_available(KernelSet set) {
-    return set <= widest_set();
-}
-
-void multiply_nt(KernelSet set, std::size_t m, std::size_t n, std::size_t k, const double* a,
+void multiply_nt(simd::Set set, std::size_t m, std::size_t n, std::size_t k, const double* a,
                  std::size_t lda, const double* b, std::size_t ldb, double* c, std::size_t ldc,
                  bool subtract, bool lower, std::size_t row_offset) {
 #if DFM_X86_DISPATCH
-    if (set == KernelSet::avx512) {
+    if (set == simd::Set::avx512) {
         if (subtract) {
             product_nt<Avx512Rows<true>>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
         } else {
@@ -389,7 +370,7 @@ void multiply_nt(KernelSet set, std::size_t m, std::size_t n, std::size_t k, con
         }
         return;
     }
-    if (set == KernelSet::avx2) {
+    if (set == simd::Set::avx2) {
         if (subtract) {
             product_nt_avx2<true>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
         } else {
@@ -408,28 +389,28 @@ void multiply_nt(KernelSet set, std::size_t m, std::size_t n, std::size_t k, con
 void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, std::size_t lda,
                  const double* b, std::size_t ldb, double* c, std::size_t ldc, bool subtract,
                  bool lower, std::size_t row_offset) {
-    multiply_nt(widest_set(), m, n, k, a, lda, b, ldb, c, ldc, subtract, lower, row_offset);
+    multiply_nt(simd::widest(), m, n, k, a, lda, b, ldb, c, ldc, subtract, lower, row_offset);
 }
 
 std::size_t factor_diagonal(std::size_t w, double* p, std::size_t ld) {
 #if DFM_X86_DISPATCH
-    if (avx2_available()) return factor_diagonal_avx2(w, p, ld);
+    if (simd::available(simd::Set::avx2)) return factor_diagonal_avx2(w, p, ld);
 #endif
     return factor_diagonal_body(w, p, ld);
 }
 
-void solve_right_lower_transposed(KernelSet set, std::size_t m, std::size_t w, const double* l,
+void solve_right_lower_transposed(simd::Set set, std::size_t m, std::size_t w, const double* l,
                                   std::size_t ldl, double* x, std::size_t ldx) {
 #if DFM_X86_DISPATCH
-    if (set == KernelSet::avx512) return solve_right_lower_transposed_avx512(m, w, l, ldl, x, ldx);
-    if (set == KernelSet::avx2) return solve_right_lower_transposed_avx2(m, w, l, ldl, x, ldx);
+    if (set == simd::Set::avx512) return solve_right_lower_transposed_avx512(m, w, l, ldl, x, ldx);
+    if (set == simd::Set::avx2) return solve_right_lower_transposed_avx2(m, w, l, ldl, x, ldx);
 #endif
     solve_right_lower_transposed_body(m, w, l, ldl, x, ldx);
 }
 
 void solve_right_lower_transposed(std::size_t m, std::size_t w, const double* l, std::size_t ldl,
                                   double* x, std::size_t ldx) {
-    solve_right_lower_transposed(widest_set(), m, w, l, ldl, x, ldx);
+    solve_right_lower_transposed(simd::widest(), m, w, l, ldl, x, ldx);
 }
 
 std::size_t factor_panel(std::size_t m, std::size_t w, double* p, std::size_t ld) {

@@ -2,6 +2,8 @@
 
 #include <cstddef>
 
+#include "core/simd.hpp"
+
 // Dense kernels on column-major blocks (entry (i, j) of a block with leading
 // dimension ld at [i + j * ld]) for the supernodal Cholesky factorization.
 //
@@ -18,13 +20,10 @@ void multiply_nt(std::size_t m, std::size_t n, std::size_t k, const double* a, s
                  const double* b, std::size_t ldb, double* c, std::size_t ldc, bool subtract,
                  bool lower, std::size_t row_offset = 0);
 
-// The instruction sets multiply_nt is compiled for; it runs the widest the
-// processor has. Each gives the same bits (the tests compare them). Ordered:
-// a processor that runs one set runs every set before it.
-enum class KernelSet { plain, avx2, avx512 };
-bool kernel_set_available(KernelSet set);
-// multiply_nt on the given set, which must be available.
-void multiply_nt(KernelSet set, std::size_t m, std::size_t n, std::size_t k, const double* a,
+// multiply_nt on the given instruction set (core/simd.hpp), which must be
+// available; the call without one runs the widest the processor has. Each
+// set gives the same bits (the tests compare them).
+void multiply_nt(simd::Set set, std::size_t m, std::size_t n, std::size_t k, const double* a,
                  std::size_t lda, const double* b, std::size_t ldb, double* c, std::size_t ldc,
                  bool subtract, bool lower, std::size_t row_offset = 0);
 
@@ -38,7 +37,7 @@ void solve_right_lower_transposed(std::size_t m, std::size_t w, const double* l,
                                   double* x, std::size_t ldx);
 // The same on the given set, which must be available; each set gives the
 // same bits.
-void solve_right_lower_transposed(KernelSet set, std::size_t m, std::size_t w, const double* l,
+void solve_right_lower_transposed(simd::Set set, std::size_t m, std::size_t w, const double* l,
                                   std::size_t ldl, double* x, std::size_t ldx);
 
 // Factors the m×w panel P = [P11; P21] in place, P11 being w×w symmetric:
@@ -60,7 +59,7 @@ void transpose(std::size_t count, std::size_t w, const double* rows, std::size_t
                double* out, std::size_t out_stride);
 
 // transpose on the given set, which must be available.
-void transpose(KernelSet set, std::size_t count, std::size_t w, const double* rows,
+void transpose(simd::Set set, std::size_t count, std::size_t w, const double* rows,
                std::size_t stride, double* out, std::size_t out_stride);
 
 }  // namespace dfm::solver::dense

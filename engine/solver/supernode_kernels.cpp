@@ -3,34 +3,23 @@
 #include <algorithm>
 #include <cstring>
 
-#include "core/cpu_features.hpp"
+#include "core/simd.hpp"
 
 // Compiled also for AVX2 and for AVX-512 (whose 32 registers hold more sums,
 // and eight doubles each where the backward solve pulls rows of 17 to 32
-// columns) and picked at run time, as the dense kernels are: the same
-// multiplications and additions in the same order, so the same bits on
-// every path.
-#if DFM_X86_DISPATCH
-#define DFM_TARGET_AVX2 __attribute__((target("avx2")))
-#define DFM_TARGET_AVX512 __attribute__((target("avx512f,avx512vl")))
-#endif
+// columns) and picked at run time, as the dense kernels are (core/simd.hpp):
+// the same bits on every path.
 
 namespace dfm::solver::supernode {
 
 namespace {
 
-// Four doubles: one AVX2 register where compiled for it, two SSE registers
-// otherwise. Element-wise products and sums round as scalar ones do.
-using Lanes = double __attribute__((vector_size(32)));
-// Eight doubles, one AVX-512 register: used only where compiled for it.
-using Lanes8 = double __attribute__((vector_size(64)));
+using simd::Doubles4;
+using simd::Doubles8;
 
-template <class V>
-constexpr std::size_t lanes_of = sizeof(V) / sizeof(double);
-
-// Lanes pass by reference: by value they would change the calling
+// Vectors pass by reference: by value they would change the calling
 // convention between the AVX2 and the plain builds.
-[[gnu::always_inline]] inline void load(Lanes& v, const double* p) {
+[[gnu::always_inline]] inline void load(Doubles4& v, const double* p) {
     std::memcpy(&v, p, sizeof v);
 }
 
@@ -38,9 +27,9 @@ constexpr std::size_t lanes_of = sizeof(V) / sizeof(double);
 // combined as (s0 + s1) + (s2 + s3).
 [[gnu::always_inline]] inline double dot4(std::size_t n, const double* a, const double* b) {
     const std::size_t n4 = n - n % 4;
-    Lanes sum = {0.0, 0.0, 0.0, 0.0};
+    Doubles4 sum = {0.0, 0.0, 0.0, 0.0};
     for (std::size_t t = 0; t < n4; t += 4) {
-        Lanes av, bv;
+        Doubles4 av, bv;
         load(av, a + t);
         load(bv, b + t);
         sum += av * bv;
@@ -72,11 +61,11 @@ template <std::size_t K>
 // (indexed at run time, they went through the stack, and the forward
 // solve waited on those stores: 5–10% of the whole solve at 104k).
 [[gnu::always_inline]] inline void tail_products(std::size_t count, const double* a,
-                                                 const double* b, Lanes& out) {
+                                                 const double* b, Doubles4& out) {
     switch (count) {
-        case 1: out = Lanes{a[0] * b[0], -0.0, -0.0, -0.0}; break;
-        case 2: out = Lanes{a[0] * b[0], a[1] * b[1], -0.0, -0.0}; break;
-        default: out = Lanes{a[0] * b[0], a[1] * b[1], a[2] * b[2], -0.0}; break;
+        case 1: out = Doubles4{a[0] * b[0], -0.0, -0.0, -0.0}; break;
+        case 2: out = Doubles4{a[0] * b[0], a[1] * b[1], -0.0, -0.0}; break;
+        default: out = Doubles4{a[0] * b[0], a[1] * b[1], a[2] * b[2], -0.0}; break;
     }
 }
 
@@ -86,20 +75,20 @@ template <std::size_t K>
 [[gnu::always_inline]] inline void dots(std::size_t n, const double* a, const double* s,
                                         std::size_t w, double* out) {
     const std::size_t n4 = n - n % 4;
-    Lanes sum[K];
-    for (std::size_t c = 0; c < K; ++c) sum[c] = Lanes{0.0, 0.0, 0.0, 0.0};
+    Doubles4 sum[K];
+    for (std::size_t c = 0; c < K; ++c) sum[c] = Doubles4{0.0, 0.0, 0.0, 0.0};
     for (std::size_t t = 0; t < n4; t += 4) {
-        Lanes av;
+        Doubles4 av;
         load(av, a + t);
         for (std::size_t c = 0; c < K; ++c) {
-            Lanes bv;
+            Doubles4 bv;
             load(bv, s + c * w + t);
             sum[c] += av * bv;
         }
     }
     if (n4 < n) {
         for (std::size_t c = 0; c < K; ++c) {
-            Lanes tail;
+            Doubles4 tail;
             tail_products(n - n4, a + n4, s + c * w + n4, tail);
             sum[c] += tail;
         }
@@ -126,17 +115,17 @@ template <std::size_t K>
 }
 
 // The first n (1 to 4) of `from`, lanes past them zero.
-[[gnu::always_inline]] inline void load_first(std::size_t n, const double* from, Lanes& v) {
+[[gnu::always_inline]] inline void load_first(std::size_t n, const double* from, Doubles4& v) {
     switch (n) {
-        case 1: v = Lanes{from[0], 0.0, 0.0, 0.0}; break;
-        case 2: v = Lanes{from[0], from[1], 0.0, 0.0}; break;
-        case 3: v = Lanes{from[0], from[1], from[2], 0.0}; break;
+        case 1: v = Doubles4{from[0], 0.0, 0.0, 0.0}; break;
+        case 2: v = Doubles4{from[0], from[1], 0.0, 0.0}; break;
+        case 3: v = Doubles4{from[0], from[1], from[2], 0.0}; break;
         default: load(v, from); break;
     }
 }
 
-[[gnu::always_inline]] inline void load_first(std::size_t n, const double* from, Lanes8& v) {
-    Lanes low, high = {0.0, 0.0, 0.0, 0.0};
+[[gnu::always_inline]] inline void load_first(std::size_t n, const double* from, Doubles8& v) {
+    Doubles4 low, high = {0.0, 0.0, 0.0, 0.0};
     load_first(std::min<std::size_t>(n, 4), from, low);
     if (n > 4) load_first(n - 4, from + 4, high);
     v = __builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7);
@@ -147,7 +136,7 @@ template <std::size_t K>
 // never read.
 template <class V, std::size_t C>
 [[gnu::always_inline]] inline void load_row(std::size_t w, const double* row, V (&lv)[C]) {
-    constexpr std::size_t L = lanes_of<V>;
+    constexpr std::size_t L = simd::lanes<V>;
     for (std::size_t q = 0; q + 1 < C; ++q) std::memcpy(&lv[q], row + L * q, sizeof(V));
     load_first(w - L * (C - 1), row + L * (C - 1), lv[C - 1]);
 }
@@ -190,7 +179,7 @@ template <class V, std::size_t K, std::size_t C>
 [[gnu::always_inline]] inline void pull_narrow_rows(std::size_t h, std::size_t w,
                                                     const double* below, const std::uint32_t* rows,
                                                     const double* y, double* s, Ahead& ahead) {
-    constexpr std::size_t L = lanes_of<V>;
+    constexpr std::size_t L = simd::lanes<V>;
     V acc[2][K][C];
     for (auto& parity : acc)
         for (auto& vector : parity)
@@ -237,25 +226,25 @@ template <std::size_t K, std::size_t max_chunks, bool eight_lanes>
                                              const double* y, double* s, Ahead& ahead) {
     if constexpr (K != 0) {
         switch ((w + 3) / 4) {
-            case 1: return pull_narrow_rows<Lanes, K, 1>(h, w, below, rows, y, s, ahead);
-            case 2: return pull_narrow_rows<Lanes, K, 2>(h, w, below, rows, y, s, ahead);
+            case 1: return pull_narrow_rows<Doubles4, K, 1>(h, w, below, rows, y, s, ahead);
+            case 2: return pull_narrow_rows<Doubles4, K, 2>(h, w, below, rows, y, s, ahead);
             case 3:
                 if constexpr (max_chunks >= 4)
-                    return pull_narrow_rows<Lanes, K, 3>(h, w, below, rows, y, s, ahead);
+                    return pull_narrow_rows<Doubles4, K, 3>(h, w, below, rows, y, s, ahead);
                 break;
             case 4:
                 if constexpr (max_chunks >= 4)
-                    return pull_narrow_rows<Lanes, K, 4>(h, w, below, rows, y, s, ahead);
+                    return pull_narrow_rows<Doubles4, K, 4>(h, w, below, rows, y, s, ahead);
                 break;
             case 5:
             case 6:
                 if constexpr (eight_lanes)
-                    return pull_narrow_rows<Lanes8, K, 3>(h, w, below, rows, y, s, ahead);
+                    return pull_narrow_rows<Doubles8, K, 3>(h, w, below, rows, y, s, ahead);
                 break;
             case 7:
             case 8:
                 if constexpr (eight_lanes)
-                    return pull_narrow_rows<Lanes8, K, 4>(h, w, below, rows, y, s, ahead);
+                    return pull_narrow_rows<Doubles8, K, 4>(h, w, below, rows, y, s, ahead);
                 break;
             default: break;
         }
@@ -271,10 +260,10 @@ template <std::size_t K, std::size_t max_chunks, bool eight_lanes>
         double* a = acc[t % 2];
         if constexpr (K != 0) {
             for (std::size_t j = 0; j < w4; j += 4) {
-                Lanes lv;
+                Doubles4 lv;
                 load(lv, row + j);
                 for (std::size_t c = 0; c < K; ++c) {
-                    Lanes av;
+                    Doubles4 av;
                     load(av, a + c * w + j);
                     av += lv * yt[c];
                     std::memcpy(a + c * w + j, &av, sizeof av);
@@ -399,23 +388,24 @@ DFM_TARGET_AVX512 void backward_avx512(std::size_t m, std::size_t w, std::size_t
 #endif
 
 template <std::size_t K>
-void forward_for(std::size_t m, std::size_t w, std::size_t push, std::size_t k, const double* l,
-                 const std::uint32_t* rows, double* own, double* y, double* scratch) {
+void forward_for(simd::Set set, std::size_t m, std::size_t w, std::size_t push, std::size_t k,
+                 const double* l, const std::uint32_t* rows, double* own, double* y,
+                 double* scratch) {
 #if DFM_X86_DISPATCH
-    if (cpu::has_avx512vl()) return forward_avx512<K>(m, w, push, k, l, rows, own, y, scratch);
-    if (cpu::has_avx2()) return forward_avx2<K>(m, w, push, k, l, rows, own, y, scratch);
+    if (set == simd::Set::avx512) return forward_avx512<K>(m, w, push, k, l, rows, own, y, scratch);
+    if (set == simd::Set::avx2) return forward_avx2<K>(m, w, push, k, l, rows, own, y, scratch);
 #endif
     forward_body<K>(m, w, push, k, l, rows, own, y, scratch);
 }
 
 template <std::size_t K>
-void backward_for(std::size_t m, std::size_t w, std::size_t k, const double* l,
+void backward_for(simd::Set set, std::size_t m, std::size_t w, std::size_t k, const double* l,
                   const std::uint32_t* rows, double* own, const double* y, double* scratch,
                   const char* ahead, std::size_t ahead_bytes) {
 #if DFM_X86_DISPATCH
-    if (cpu::has_avx512vl())
+    if (set == simd::Set::avx512)
         return backward_avx512<K>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
-    if (cpu::has_avx2())
+    if (set == simd::Set::avx2)
         return backward_avx2<K>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
 #endif
     backward_body<K, 2, false>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
@@ -433,25 +423,36 @@ double row_product(std::size_t w, const double* row, const double* own, std::siz
     return (sum[0] + sum[1]) + (sum[2] + sum[3]);
 }
 
+void forward(simd::Set set, std::size_t m, std::size_t w, std::size_t push, std::size_t k,
+             const double* l, const std::uint32_t* rows, double* own, double* y, double* scratch) {
+    switch (k) {
+        case 1: return forward_for<1>(set, m, w, push, k, l, rows, own, y, scratch);
+        case 2: return forward_for<2>(set, m, w, push, k, l, rows, own, y, scratch);
+        case 3: return forward_for<3>(set, m, w, push, k, l, rows, own, y, scratch);
+        default: return forward_for<0>(set, m, w, push, k, l, rows, own, y, scratch);
+    }
+}
+
 void forward(std::size_t m, std::size_t w, std::size_t push, std::size_t k, const double* l,
              const std::uint32_t* rows, double* own, double* y, double* scratch) {
+    forward(simd::widest(), m, w, push, k, l, rows, own, y, scratch);
+}
+
+void backward(simd::Set set, std::size_t m, std::size_t w, std::size_t k, const double* l,
+              const std::uint32_t* rows, double* own, const double* y, double* scratch,
+              const char* ahead, std::size_t ahead_bytes) {
     switch (k) {
-        case 1: return forward_for<1>(m, w, push, k, l, rows, own, y, scratch);
-        case 2: return forward_for<2>(m, w, push, k, l, rows, own, y, scratch);
-        case 3: return forward_for<3>(m, w, push, k, l, rows, own, y, scratch);
-        default: return forward_for<0>(m, w, push, k, l, rows, own, y, scratch);
+        case 1: return backward_for<1>(set, m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
+        case 2: return backward_for<2>(set, m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
+        case 3: return backward_for<3>(set, m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
+        default: return backward_for<0>(set, m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
     }
 }
 
 void backward(std::size_t m, std::size_t w, std::size_t k, const double* l,
               const std::uint32_t* rows, double* own, const double* y, double* scratch,
               const char* ahead, std::size_t ahead_bytes) {
-    switch (k) {
-        case 1: return backward_for<1>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
-        case 2: return backward_for<2>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
-        case 3: return backward_for<3>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
-        default: return backward_for<0>(m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
-    }
+    backward(simd::widest(), m, w, k, l, rows, own, y, scratch, ahead, ahead_bytes);
 }
 
 }  // namespace dfm::solver::supernode

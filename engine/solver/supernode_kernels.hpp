@@ -3,6 +3,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/simd.hpp"
+
 // The triangular solves' work on one supernode, for k interleaved vectors
 // (y[i k + c] is entry i of vector c). The supernode's m×w block L is laid
 // out for the solves (SparseCholesky): its w×w diagonal block column-major
@@ -42,6 +44,15 @@ void forward(std::size_t m, std::size_t w, std::size_t push, std::size_t k, cons
 // the cache while it works, a few lines with each row below and the rest
 // after those rows (none: 0 bytes); they change nothing else.
 void backward(std::size_t m, std::size_t w, std::size_t k, const double* l,
+              const std::uint32_t* rows, double* own, const double* y, double* scratch,
+              const char* ahead, std::size_t ahead_bytes);
+
+// forward and backward on the given instruction set, which must be
+// available (core/simd.hpp); the calls above run the widest the processor
+// has. Every set gives the same bits (the tests compare them).
+void forward(simd::Set set, std::size_t m, std::size_t w, std::size_t push, std::size_t k,
+             const double* l, const std::uint32_t* rows, double* own, double* y, double* scratch);
+void backward(simd::Set set, std::size_t m, std::size_t w, std::size_t k, const double* l,
               const std::uint32_t* rows, double* own, const double* y, double* scratch,
               const char* ahead, std::size_t ahead_bytes);
 

@@ -8,7 +8,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "core/cpu_features.hpp"
+#include "core/simd.hpp"
 #include "deform/rotation_fit.hpp"
 #include "deform/rotation_fit_lanes.hpp"
 #include "solver/test_matrices.hpp"
@@ -78,17 +78,15 @@ void fit_plain(const deform::fit_lanes::Mat3& a, deform::fit_lanes::Quat& q, int
 }
 
 #if DFM_X86_DISPATCH
-__attribute__((target("avx2"))) void fit_avx2(const deform::fit_lanes::Mat3& a,
-                                              deform::fit_lanes::Quat& q, int steps,
-                                              deform::fit_lanes::Mat3& r,
-                                              deform::fit_lanes::Quad& alignment) {
+DFM_TARGET_AVX2 void fit_avx2(const deform::fit_lanes::Mat3& a, deform::fit_lanes::Quat& q,
+                              int steps, deform::fit_lanes::Mat3& r,
+                              deform::fit_lanes::Quad& alignment) {
     deform::fit_rotations(a, q, steps, r, alignment);
 }
 
-__attribute__((target("avx512f,avx512vl"))) void fit_avx512(const deform::fit_lanes::Mat3& a,
-                                                            deform::fit_lanes::Quat& q, int steps,
-                                                            deform::fit_lanes::Mat3& r,
-                                                            deform::fit_lanes::Quad& alignment) {
+DFM_TARGET_AVX512 void fit_avx512(const deform::fit_lanes::Mat3& a, deform::fit_lanes::Quat& q,
+                                  int steps, deform::fit_lanes::Mat3& r,
+                                  deform::fit_lanes::Quad& alignment) {
     deform::fit_rotations(a, q, steps, r, alignment);
 }
 #endif
@@ -135,8 +133,8 @@ void check_against_one_at_a_time(FitFunction fit) {
 TEST_CASE("rotation fit: four lanes give each lane the one-at-a-time fit's bits") {
     check_against_one_at_a_time(fit_plain);
 #if DFM_X86_DISPATCH
-    if (dfm::cpu::has_avx2()) check_against_one_at_a_time(fit_avx2);
-    if (dfm::cpu::has_avx512vl()) check_against_one_at_a_time(fit_avx512);
+    if (simd::available(simd::Set::avx2)) check_against_one_at_a_time(fit_avx2);
+    if (simd::available(simd::Set::avx512)) check_against_one_at_a_time(fit_avx512);
 #endif
 }
 

@@ -34,7 +34,7 @@ Product random_product(std::mt19937& rng, std::size_t m, std::size_t n, std::siz
     return p;
 }
 
-std::vector<double> run(dense::KernelSet set, const Product& p, bool subtract, bool lower,
+std::vector<double> run(dfm::simd::Set set, const Product& p, bool subtract, bool lower,
                         std::size_t offset) {
     std::vector<double> c = p.c;
     dense::multiply_nt(set, p.m, p.n, p.k, p.a.data(), p.lda, p.b.data(), p.ldb, c.data(), p.ldc,
@@ -61,7 +61,7 @@ bool same_needed_bits(const Product& p, std::size_t offset, const std::vector<do
 }  // namespace
 
 TEST_CASE("solver: the dense product gives the same bits on every instruction set") {
-    const dense::KernelSet wide[] = {dense::KernelSet::avx2, dense::KernelSet::avx512};
+    const dfm::simd::Set wide[] = {dfm::simd::Set::avx2, dfm::simd::Set::avx512};
     std::mt19937 rng(12);
     std::uniform_int_distribution<std::size_t> size(1, 150);
     std::size_t compared = 0;
@@ -70,11 +70,10 @@ TEST_CASE("solver: the dense product gives the same bits on every instruction se
         const Product p = random_product(rng, size(rng), size(rng) % 40 + 1, size(rng) % 70 + 1);
         const std::size_t offset = size(rng) % 20;
         for (const bool subtract : {false, true}) {
-            const std::vector<double> full = run(dense::KernelSet::plain, p, subtract, false, 0);
-            const std::vector<double> lower =
-                run(dense::KernelSet::plain, p, subtract, true, offset);
-            for (dense::KernelSet set : wide) {
-                if (!dense::kernel_set_available(set)) continue;
+            const std::vector<double> full = run(dfm::simd::Set::plain, p, subtract, false, 0);
+            const std::vector<double> lower = run(dfm::simd::Set::plain, p, subtract, true, offset);
+            for (dfm::simd::Set set : wide) {
+                if (!dfm::simd::available(set)) continue;
                 CHECK(same_bits(run(set, p, subtract, false, 0), full));
                 CHECK(same_needed_bits(p, offset, run(set, p, subtract, true, offset), lower));
                 ++compared;
@@ -87,9 +86,9 @@ TEST_CASE("solver: the dense product gives the same bits on every instruction se
 TEST_CASE("solver: the dense product's entries are the sums in ascending order") {
     std::mt19937 rng(7);
     const Product p = random_product(rng, 37, 11, 23);
-    for (dense::KernelSet set :
-         {dense::KernelSet::plain, dense::KernelSet::avx2, dense::KernelSet::avx512}) {
-        if (!dense::kernel_set_available(set)) continue;
+    for (dfm::simd::Set set :
+         {dfm::simd::Set::plain, dfm::simd::Set::avx2, dfm::simd::Set::avx512}) {
+        if (!dfm::simd::available(set)) continue;
         const std::vector<double> c = run(set, p, true, false, 0);
         for (std::size_t j = 0; j < p.n; ++j)
             for (std::size_t i = 0; i < p.m; ++i) {
@@ -120,7 +119,7 @@ TEST_CASE("solver: the triangular solve of the rows below gives the same bits on
         for (std::size_t j = 0; j < w; ++j) l[j + j * ldl] = 1.0 + std::abs(l[j + j * ldl]);
         for (double& v : x) v = std::ldexp(value(rng), static_cast<int>(size(rng) % 41) - 20);
         std::vector<double> plain = x;
-        dense::solve_right_lower_transposed(dense::KernelSet::plain, m, w, l.data(), ldl,
+        dense::solve_right_lower_transposed(dfm::simd::Set::plain, m, w, l.data(), ldl,
                                             plain.data(), ldx);
         // The plain kernel solves X Lᵀ = B: check it before comparing with it.
         double worst = 0.0;
@@ -134,8 +133,8 @@ TEST_CASE("solver: the triangular solve of the rows below gives the same bits on
                 worst = std::max(worst, std::abs(b - x[i + j * ldx]) / scale);
             }
         CHECK(worst < 1e-12);
-        for (dense::KernelSet set : {dense::KernelSet::avx2, dense::KernelSet::avx512}) {
-            if (!dense::kernel_set_available(set)) continue;
+        for (dfm::simd::Set set : {dfm::simd::Set::avx2, dfm::simd::Set::avx512}) {
+            if (!dfm::simd::available(set)) continue;
             std::vector<double> wide = x;
             dense::solve_right_lower_transposed(set, m, w, l.data(), ldl, wide.data(), ldx);
             CHECK(same_bits(wide, plain));
@@ -156,9 +155,9 @@ TEST_CASE("solver: the transpose moves every entry and writes nothing else, on e
         const std::size_t stride = w + size(rng) % 5, out_stride = count + size(rng) % 5;
         std::vector<double> rows(count * stride);
         for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = static_cast<double>(i) + 0.5;
-        for (dense::KernelSet set :
-             {dense::KernelSet::plain, dense::KernelSet::avx2, dense::KernelSet::avx512}) {
-            if (!dense::kernel_set_available(set)) continue;
+        for (dfm::simd::Set set :
+             {dfm::simd::Set::plain, dfm::simd::Set::avx2, dfm::simd::Set::avx512}) {
+            if (!dfm::simd::available(set)) continue;
             std::vector<double> out(w * out_stride, -1.0);
             dense::transpose(set, count, w, rows.data(), stride, out.data(), out_stride);
             bool moved = true, untouched = true;
