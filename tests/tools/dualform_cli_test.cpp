@@ -160,7 +160,7 @@ TEST_CASE("dualform deform: writes the mesh, the ROI and a report with every fie
          {"mesh", "n_vertices", "n_faces", "n_roi", "n_handles", "iterations", "converged",
           "setup_ms", "solve_ms", "ms_per_iteration", "krylov_iterations", "max_handle_error",
           "mean_abs_log_edge", "max_abs_log_edge", "mean_normal_change_deg", "max_fixed_move",
-          "dual_magnitude_error"}) {
+          "dual_magnitude_error", "flipped_faces", "creased_edges"}) {
         CAPTURE(key);
         CHECK(field(json, key) != "<missing>");
     }

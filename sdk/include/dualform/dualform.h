@@ -757,6 +757,8 @@ typedef struct dfm_quality {
     double max_fixed_move;         /* largest move of a vertex outside the ROI; always 0 */
     double dual_magnitude_error;   /* mean | |l_f| - |h_f| | over ROI faces / mean |h_f| */
     size_t flipped_faces;          /* faces with a ROI vertex whose normal turned over 90 deg */
+    size_t creased_edges;          /* edges between ROI vertices whose dihedral angle turned
+                                      over 90 deg: a fold's creases, blind to rigid motion */
 } dfm_quality;
 
 /* Measures the newest frame against the rest pose and the targets staged

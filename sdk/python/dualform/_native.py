@@ -219,6 +219,7 @@ class Quality(Structure):
         ("max_fixed_move", c_double),
         ("dual_magnitude_error", c_double),
         ("flipped_faces", c_size_t),
+        ("creased_edges", c_size_t),
     ]
 
 

@@ -214,6 +214,7 @@ class Quality:
     max_fixed_move: float
     dual_magnitude_error: float
     flipped_faces: int
+    creased_edges: int
 
 
 @dataclass(frozen=True)
