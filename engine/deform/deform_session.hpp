@@ -39,9 +39,6 @@ struct DeformSettings {
     // Ties what D cannot see to the previous iterate; relative to N's mean
     // diagonal. It vanishes at the fixed point, so it never moves the result.
     double regularization = 1e-9;
-    // Scales h by sqrt(area / rest area) so a stretched region keeps its
-    // relative detail. Off by default (docs/design.md).
-    bool scale_heights = false;
     // Accuracy of each linear solve, in units of the rest diagonal.
     double linear_tolerance = 1e-8;
     solver::PreconditionerKind preconditioner = solver::PreconditionerKind::cholesky;
@@ -201,9 +198,8 @@ private:
     PooledVector<double> next_;
     AndersonAccelerator anderson_;
     FramePredictor predictor_;
-    RotationFrames frames_;              // fitted_rotations only
-    PooledVector<double> height_scale_;  // per dual row, with scale_heights
-    bool pinned_ = true;                 // the ROI has a fixed boundary
+    RotationFrames frames_;  // fitted_rotations only
+    bool pinned_ = true;     // the ROI has a fixed boundary
     SetupReport setup_;
 };
 

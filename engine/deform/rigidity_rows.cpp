@@ -1,6 +1,7 @@
 #include "deform/rigidity_rows.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include <glm/geometric.hpp>
@@ -37,11 +38,23 @@ std::uint32_t opposite_vertex(const mesh::Triangle& t, const mesh::Triangle& oth
 // (docs/method.md).
 constexpr double relative_edge_weight = 0.2;
 
+// Clusters of the coarse rotation field per ROI. Fewer carry a change of pose
+// across the ROI in fewer iterations and resist folds more; more follow
+// bends and twists more closely (docs/method.md).
+constexpr std::size_t clusters_per_roi = 16;
+
 }  // namespace
+
+double balanced_rigidity_weight(double weight, std::size_t unknowns) {
+    const double ratio = static_cast<double>(balance_unknowns) /
+                         static_cast<double>(std::max<std::size_t>(unknowns, 1));
+    return weight * std::sqrt(std::min(1.0, ratio));
+}
 
 void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, double weight,
                            const SystemRows& rows) {
     const mesh::Mesh& mesh = model.mesh;
+    weight = balanced_rigidity_weight(weight, unknowns.count());
     const std::size_t dual_rows = rows.size();
     // Edge rows are relative: a needle's short edge gets the weight of its
     // shortness. Lengths alone would let needles (the camel's head has edges
@@ -144,6 +157,24 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
     fixed_.resize(merged);
     kept_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
     fitted_ = kept_;
+
+    // The coarse rotation field over the rows, neighbours across the dual
+    // edges between rows.
+    std::vector<std::uint32_t> row_of(mesh.face_count(), mesh::no_index);
+    for (std::size_t r = 0; r < dual_rows; ++r)
+        row_of[rows.faces[r]] = static_cast<std::uint32_t>(r);
+    std::vector<std::array<std::uint32_t, 3>> ring(dual_rows);
+    for (std::size_t r = 0; r < dual_rows; ++r) {
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t j = model.dual.neighbors[rows.faces[r]][k];
+            ring[r][k] = j == mesh::no_index ? mesh::no_index : row_of[j];
+        }
+    }
+    clusters_.build(ring, clusters_per_roi);
+    cluster_kept_.assign(clusters_.size(), glm::dquat(1.0, 0.0, 0.0, 0.0));
+    cluster_fitted_ = cluster_kept_;
+    cluster_rotations_.assign(clusters_.size(), glm::dmat3(1.0));
+    cluster_sums_.assign(2 * clusters_.size(), glm::dmat3(0.0));
 }
 
 std::size_t RotationFrames::rigidity_rows() const {
@@ -154,22 +185,29 @@ std::size_t RotationFrames::rigidity_rows() const {
 
 namespace {
 
-// Per stencil of a deferred pass: R_f G_i by slot and coordinate, then the
-// row's energy.
-constexpr std::size_t deferred_stride = 3 * slots + 1;
+// The share of every row's rotation that comes from the coarse field
+// (rotation_clusters.hpp); the rest is the row's own fit. Half and half kept
+// the limbs' bends and twists within a few percent of the row's own
+// rotations while the whole armadillo converged in half the iterations and
+// compressive pushes folded far less (docs/method.md).
+constexpr double coarse_share = 0.5;
+
+// A row's own rotation's share of its target: all of it where no cluster
+// reaches the row.
+double own_share(const RotationClusters& clusters, std::size_t r) {
+    return clusters.of(r).empty() ? 1.0 : 1.0 - coarse_share;
+}
 
 struct FitPass {
     std::span<const RigidityStencil> stencils;
     std::span<const glm::dquat> kept;
     std::span<glm::dquat> fitted;
     std::span<const glm::dvec3> positions;
-    std::span<const double> height_scale;
     int steps;
-    std::span<double> rhs;
-    // Null: each row adds its share to rhs and the pass returns the energy.
-    // Otherwise each row's share and energy are kept here (deferred_stride
-    // doubles a row), for the caller to add in order.
-    double* deferred = nullptr;
+    const RotationClusters* clusters;
+    std::size_t first_row;  // of `stencils` in the whole
+    // This part's sums Σ κ_fc C_f by cluster.
+    std::span<glm::dmat3> cluster_sums;
 };
 
 // Two doubles, the width every x86-64 processor has: the slots go three
@@ -188,24 +226,20 @@ using SlotLanes = std::array<Lanes, lanes>;
     return v[0] + v[1];
 }
 
-// What a dual row's fit needs before and after the rotation: |A_k p|²
-// summed over its rows, its target scale and G_i by coordinate.
-struct PreparedRow {
-    double rows2;
-    double scale;
-    std::array<SlotLanes, 3> g;
-};
+// G_i of row s by coordinate: its rigidity rows' and its dual row's.
+[[gnu::always_inline]] inline void pulled_targets(const RigidityStencil& s,
+                                                  std::array<SlotLanes, 3>& g) {
+    const std::array<double, 3> rest_dual{s.rest_dual.x, s.rest_dual.y, s.rest_dual.z};
+    for (std::size_t x = 0; x < 3; ++x)
+        for (std::size_t l = 0; l < lanes; ++l)
+            g[x][l] = lanes_at(&s.pulled[x][2 * l]) + lanes_at(&s.dual[2 * l]) * rest_dual[x];
+}
 
 // Gathers dual row r's positions, fills lane `lane` of the covariance and
-// returns what the fit's result is applied with.
-[[gnu::always_inline]] inline void prepare_row(const FitPass& pass, std::size_t r, std::size_t lane,
-                                               fit_lanes::Mat3& covariance, PreparedRow& out) {
+// returns Σ_k |A_k p|² over its rows, which does not depend on the fit.
+[[gnu::always_inline]] inline double prepare_row(const FitPass& pass, std::size_t r,
+                                                 std::size_t lane, fit_lanes::Mat3& covariance) {
     const RigidityStencil& s = pass.stencils[r];
-    const double scale = pass.height_scale.empty() ? 1.0 : pass.height_scale[r];
-    out.scale = scale;
-    // By coordinate, as arrays: glm's vec3[i] is a switch.
-    const std::array<double, 3> rest_dual{scale * s.rest_dual.x, scale * s.rest_dual.y,
-                                          scale * s.rest_dual.z};
     // The lanes are loaded from the positions themselves: a copy of them
     // on the stack, read back in other pairs, stalls each load on the
     // stores it spans.
@@ -217,9 +251,9 @@ struct PreparedRow {
         p[1][l] = Lanes{u.y, w.y};
         p[2][l] = Lanes{u.z, w.z};
     }
-    // |A_k p|² does not depend on the fit: taken before it.
     double rows2 = 0.0;
-    std::array<SlotLanes, 3>& g = out.g;
+    std::array<SlotLanes, 3> g;
+    pulled_targets(s, g);
     std::array<SlotLanes, 3> e;
     for (std::size_t x = 0; x < 3; ++x) {
         Lanes product = lanes_at(&s.dual[0]) * p[x][0];
@@ -227,20 +261,16 @@ struct PreparedRow {
         const double dual = lane_sum(product);
         rows2 += dual * dual;
         const double origin = p[x][0][0];
-        for (std::size_t l = 0; l < lanes; ++l) {
-            g[x][l] = lanes_at(&s.pulled[x][2 * l]) + lanes_at(&s.dual[2 * l]) * rest_dual[x];
-            // Σ_i G_i = 0 (every row's coefficients sum to zero):
-            // positions relative to the first slot give the same
-            // covariance, with less cancellation.
-            e[x][l] = p[x][l] - origin;
-        }
+        // Σ_i G_i = 0 (every row's coefficients sum to zero): positions
+        // relative to the first slot give the same covariance, with less
+        // cancellation.
+        for (std::size_t l = 0; l < lanes; ++l) e[x][l] = p[x][l] - origin;
     }
     for (std::size_t k = 0; k < pairs; ++k) {
         const glm::dvec3 edge = pass.positions[s.vertex[s.pair_slot[k][0]]] -
                                 pass.positions[s.vertex[s.pair_slot[k][1]]];
         rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
     }
-    out.rows2 = rows2;
     for (int row = 0; row < 3; ++row) {
         for (int column = 0; column < 3; ++column) {
             Lanes sum = e[row][0] * g[column][0];
@@ -248,44 +278,13 @@ struct PreparedRow {
             covariance.m[column][row][lane] = lane_sum(sum);
         }
     }
+    return rows2;
 }
 
-// Adds dual row r's share R_f G_i to the right-hand side; returns its energy.
-[[gnu::always_inline]] inline double finish_row(const FitPass& pass, std::size_t r,
-                                                std::size_t lane, const fit_lanes::Mat3& rotation,
-                                                double alignment, const PreparedRow& in) {
-    const RigidityStencil& s = pass.stencils[r];
-    const std::array<SlotLanes, 3>& g = in.g;
-    std::array<SlotLanes, 3> pull;  // R_f G_i by coordinate
-    for (int x = 0; x < 3; ++x) {
-        const double r0 = rotation.m[0][x][lane];
-        const double r1 = rotation.m[1][x][lane];
-        const double r2 = rotation.m[2][x][lane];
-        for (std::size_t l = 0; l < lanes; ++l)
-            pull[x][l] = r0 * g[0][l] + r1 * g[1][l] + r2 * g[2][l];
-    }
-    const double energy =
-        in.rows2 - 2.0 * alignment + in.scale * in.scale * s.rest_dual2 + s.pair_target2;
-    if (pass.deferred != nullptr) {
-        double* share = pass.deferred + r * deferred_stride;
-        for (std::size_t i = 0; i < slots; ++i)
-            for (std::size_t x = 0; x < 3; ++x) share[3 * i + x] = pull[x][i / 2][i % 2];
-        share[3 * slots] = energy;
-        return 0.0;
-    }
-    for (std::size_t i = 0; i < slots; ++i) {
-        if (s.unknown[i] == mesh::no_index) continue;
-        double* out = &pass.rhs[3 * s.unknown[i]];
-        out[0] += pull[0][i / 2][i % 2];
-        out[1] += pull[1][i / 2][i % 2];
-        out[2] += pull[2][i / 2][i % 2];
-    }
-    return energy;
-}
-
-// Four dual rows at a time, their rotations fitted side by side in the
-// lanes of one vector (rotation_fit_lanes.hpp); the right-hand side and
-// the energy still take the rows one by one, in order.
+// The local step's first pass over a part of the rows: each row's own
+// rotation fitted (four rows at a time, side by side in the lanes of one
+// vector: rotation_fit_lanes.hpp), its covariance added to its clusters'
+// sums, and the rows' energy but for the clusters' alignment returned.
 [[gnu::always_inline]] inline double fit_rows_body(const FitPass& pass) {
     constexpr std::size_t width = fit_lanes::width;
     double energy = 0.0;
@@ -307,12 +306,12 @@ struct PreparedRow {
         }
         fit_lanes::Mat3 covariance;
         fit_lanes::Quat q;
-        std::array<PreparedRow, width> prepared;
+        std::array<double, width> rows2;
         for (std::size_t lane = 0; lane < width; ++lane) {
             // Past the last row, a lane repeats the first: its result is
             // dropped, and it stops when that row's fit does.
             const std::size_t r = first + (lane < used ? lane : 0);
-            prepare_row(pass, r, lane, covariance, prepared[lane]);
+            rows2[lane] = prepare_row(pass, r, lane, covariance);
             const glm::dquat& kept = pass.kept[r];
             q.w[lane] = kept.w;
             q.x[lane] = kept.x;
@@ -324,15 +323,76 @@ struct PreparedRow {
         fit_rotations(covariance, q, pass.steps, rotation, alignment);
         for (std::size_t lane = 0; lane < used; ++lane) {
             const std::size_t r = first + lane;
+            const std::size_t row = pass.first_row + r;
+            const RigidityStencil& s = pass.stencils[r];
             pass.fitted[r] = glm::dquat(q.w[lane], q.x[lane], q.y[lane], q.z[lane]);
-            energy += finish_row(pass, r, lane, rotation, alignment[lane], prepared[lane]);
+            energy += rows2[lane] - 2.0 * own_share(*pass.clusters, row) * alignment[lane] +
+                      s.rest_dual2 + s.pair_target2;
+            for (const RotationClusters::Membership& m : pass.clusters->of(row)) {
+                glm::dmat3& sum = pass.cluster_sums[m.cluster];
+                for (int c = 0; c < 3; ++c)
+                    for (int i = 0; i < 3; ++i) sum[c][i] += m.weight * covariance.m[c][i][lane];
+            }
         }
     }
     return energy;
 }
 
+// The last pass: each row's target rotation, its own fit's share and its
+// clusters' blend, turns G_i into the row's share of Aᵀ t at each slot.
+struct SharePass {
+    std::span<const RigidityStencil> stencils;
+    std::span<const glm::dquat> fitted;
+    const RotationClusters* clusters;
+    std::size_t first_row;
+    std::span<const glm::dmat3> cluster_rotations;
+    std::span<double> rhs;
+    // Null: each row adds its share to rhs. Otherwise the shares are kept
+    // here (3 × slots doubles a row), for the caller to add in order.
+    double* deferred = nullptr;
+};
+
+constexpr std::size_t deferred_stride = 3 * slots;
+
+[[gnu::always_inline]] inline void add_shares_body(const SharePass& pass) {
+    for (std::size_t r = 0; r < pass.stencils.size(); ++r) {
+        const RigidityStencil& s = pass.stencils[r];
+        const std::size_t row = pass.first_row + r;
+        glm::dmat3 rotation = own_share(*pass.clusters, row) * glm::mat3_cast(pass.fitted[r]);
+        for (const RotationClusters::Membership& m : pass.clusters->of(row))
+            rotation += (coarse_share * m.weight) * pass.cluster_rotations[m.cluster];
+        std::array<SlotLanes, 3> g;
+        pulled_targets(s, g);
+        std::array<SlotLanes, 3> pull;  // the target rotation times G_i, by coordinate
+        for (int x = 0; x < 3; ++x) {
+            const double r0 = rotation[0][x];
+            const double r1 = rotation[1][x];
+            const double r2 = rotation[2][x];
+            for (std::size_t l = 0; l < lanes; ++l)
+                pull[x][l] = r0 * g[0][l] + r1 * g[1][l] + r2 * g[2][l];
+        }
+        if (pass.deferred != nullptr) {
+            double* share = pass.deferred + r * deferred_stride;
+            for (std::size_t i = 0; i < slots; ++i)
+                for (std::size_t x = 0; x < 3; ++x) share[3 * i + x] = pull[x][i / 2][i % 2];
+            continue;
+        }
+        for (std::size_t i = 0; i < slots; ++i) {
+            if (s.unknown[i] == mesh::no_index) continue;
+            double* out = &pass.rhs[3 * s.unknown[i]];
+            out[0] += pull[0][i / 2][i % 2];
+            out[1] += pull[1][i / 2][i % 2];
+            out[2] += pull[2][i / 2][i % 2];
+        }
+    }
+}
+
 double fit_rows_plain(const FitPass& pass) {
     return fit_rows_body(pass);
+}
+
+void add_shares_plain(const SharePass& pass) {
+    add_shares_body(pass);
 }
 
 #if DFM_X86_DISPATCH
@@ -342,6 +402,10 @@ __attribute__((target("avx2"))) double fit_rows_avx2(const FitPass& pass) {
 
 __attribute__((target("avx512f,avx512vl"))) double fit_rows_avx512(const FitPass& pass) {
     return fit_rows_body(pass);
+}
+
+__attribute__((target("avx2"))) void add_shares_avx2(const SharePass& pass) {
+    add_shares_body(pass);
 }
 #endif
 
@@ -353,14 +417,20 @@ double fit_rows(const FitPass& pass) {
     return fit_rows_plain(pass);
 }
 
-// Fewer rows than this are fitted by one thread: a second one's wake-up
+void add_shares(const SharePass& pass) {
+#if DFM_X86_DISPATCH
+    if (cpu::has_avx2()) return add_shares_avx2(pass);
+#endif
+    add_shares_plain(pass);
+}
+
+// Fewer rows than this take each pass on one thread: a second one's wake-up
 // would cost more than it saves.
 constexpr std::size_t split_minimum = 8192;
 
 }  // namespace
 
-double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
-                                   std::span<const double> height_scale, int steps,
+double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int steps,
                                    std::span<double> rhs, solver::ThreadPool* pool) {
     for (const FixedCoupling& c : fixed_) {
         const glm::dvec3& p = positions[c.vertex];
@@ -369,33 +439,83 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
         out[1] += c.coefficient * p.y;
         out[2] += c.coefficient * p.z;
     }
+    // The rows in two parts, whatever the threads: each part sums its own
+    // energy and its own clusters' covariances, and the second part's sums
+    // are added to the first's, so one thread and two give the same bits.
     const std::size_t count = stencils_.size();
-    const FitPass whole{stencils_, kept_, fitted_, positions, height_scale, steps, rhs};
-    if (pool == nullptr || pool->thread_count() < 2 || count < split_minimum)
-        return fit_rows(whole);
-    // Two halves side by side: the first adds to rhs as it goes, the second
-    // keeps its rows' shares and energies, which are then added after the
-    // first half's, row by row in order: the sums of the one-thread pass,
-    // bit for bit.
     const std::size_t half = count / 2 - count / 2 % fit_lanes::width;
-    const auto part = [&](std::size_t begin, std::size_t end, double* deferred) {
-        return FitPass{
-            std::span(stencils_).subspan(begin, end - begin),
-            std::span(kept_).subspan(begin, end - begin),
-            std::span(fitted_).subspan(begin, end - begin),
-            positions,
-            height_scale.empty() ? height_scale : height_scale.subspan(begin, end - begin),
-            steps,
-            rhs,
-            deferred};
-    };
-    deferred_.resize((count - half) * deferred_stride);
-    double energy = 0.0;
-    pool->run(2, [&](std::size_t task) {
-        if (task == 0) {
-            energy = fit_rows(part(0, half, nullptr));
+    const bool split = pool != nullptr && pool->thread_count() >= 2 && count >= split_minimum;
+    const std::size_t clusters = clusters_.size();
+    std::array<double, 2> energy{};
+    const auto fit_parts = [&](int row_steps) {
+        std::fill(cluster_sums_.begin(), cluster_sums_.end(), glm::dmat3(0.0));
+        const auto fit_part = [&](std::size_t part) {
+            const std::size_t begin = part == 0 ? 0 : half;
+            const std::size_t end = part == 0 ? half : count;
+            energy[part] = fit_rows(FitPass{
+                std::span(stencils_).subspan(begin, end - begin),
+                std::span(kept_).subspan(begin, end - begin),
+                std::span(fitted_).subspan(begin, end - begin), positions, row_steps, &clusters_,
+                begin, std::span(cluster_sums_).subspan(part * clusters, clusters)});
+        };
+        if (split) {
+            pool->run(2, fit_part);
         } else {
-            fit_rows(part(half, count, deferred_.data()));
+            fit_part(0);
+            fit_part(1);
+        }
+    };
+    // The clusters' rotations, each fitted to the sum of its rows'
+    // covariances, weighted; returns their share of the energy.
+    const auto fit_clusters = [&] {
+        double alignment = 0.0;
+        for (std::size_t c = 0; c < clusters; ++c) {
+            const glm::dmat3 sum = cluster_sums_[c] + cluster_sums_[clusters + c];
+            glm::dquat q = cluster_kept_[c];
+            const RotationFit fit = fit_rotation(sum, q, steps);
+            cluster_fitted_[c] = q;
+            cluster_rotations_[c] = fit.rotation;
+            alignment += fit.alignment;
+        }
+        return -2.0 * coarse_share * alignment;
+    };
+    if (steps > 1 && clusters > 0) {
+        // A solve's first fit starts each row from its heaviest cluster's
+        // rotation: a row fitted alone from far away can stop at a saddle
+        // of its alignment, and a cluster's many rows leave it none.
+        fit_parts(0);
+        fit_clusters();
+        std::copy(cluster_fitted_.begin(), cluster_fitted_.end(), cluster_kept_.begin());
+        for (std::size_t r = 0; r < count; ++r) {
+            const auto members = clusters_.of(r);
+            if (members.empty()) continue;
+            const auto heaviest =
+                std::max_element(members.begin(), members.end(),
+                                 [](const auto& a, const auto& b) { return a.weight < b.weight; });
+            kept_[r] = cluster_kept_[heaviest->cluster];
+        }
+    }
+    fit_parts(steps);
+    const double total = energy[0] + energy[1] + fit_clusters();
+
+    const auto share_part = [&](std::size_t begin, std::size_t end, double* deferred) {
+        add_shares(SharePass{std::span(stencils_).subspan(begin, end - begin),
+                             std::span(fitted_).subspan(begin, end - begin), &clusters_, begin,
+                             cluster_rotations_, rhs, deferred});
+    };
+    if (!split) {
+        share_part(0, count, nullptr);
+        return total;
+    }
+    // Two halves side by side: the first adds to rhs as it goes, the second
+    // keeps its rows' shares, which are then added after the first half's,
+    // row by row in order: the sums of the one-thread pass, bit for bit.
+    deferred_.resize((count - half) * deferred_stride);
+    pool->run(2, [&](std::size_t part) {
+        if (part == 0) {
+            share_part(0, half, nullptr);
+        } else {
+            share_part(half, count, deferred_.data());
         }
     });
     for (std::size_t r = half; r < count; ++r) {
@@ -408,9 +528,8 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
             out[1] += share[3 * i + 1];
             out[2] += share[3 * i + 2];
         }
-        energy += share[3 * slots];
     }
-    return energy;
+    return total;
 }
 
 }  // namespace dfm::deform
