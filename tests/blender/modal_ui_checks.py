@@ -1,13 +1,15 @@
-"""Runs inside Blender with a window (under Xvfb, --enable-event-simulate):
-the modal Dualform Drag invoked in the 3D view and driven by simulated
-mouse and keyboard events, as a user drives it. Writes OUT/modal_ui.json.
+"""Runs inside Blender with a window (under Xvfb, --enable-event-simulate),
+in the folder that holds dualform_blender.zip: the modal Dualform Drag
+invoked in the 3D view and driven by simulated mouse and keyboard events,
+as a user drives it. Writes OUT/modal_ui.json.
 
 xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup
     --enable-event-simulate --window-geometry 0 0 1280 800
-    --python modal_ui_checks.py -- ZIP PLY OUT HOOF_FILE
+    --python modal_ui_checks.py -- PLY OUT HOOF_FILE
 """
 
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -15,7 +17,10 @@ import bmesh
 import bpy
 import numpy as np
 
-zip_path, ply_path, out_dir, hoof_file = sys.argv[sys.argv.index("--") + 1:]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from documented_install import install_as_documented  # noqa: E402
+
+ply_path, out_dir, hoof_file = sys.argv[sys.argv.index("--") + 1:]
 hoof = [int(v) for v in Path(hoof_file).read_text().split()]
 results = {}
 state = {"step": 0}
@@ -49,8 +54,7 @@ def select(obj, vertices):
 
 
 def prepare(window, area, region):
-    bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
-    bpy.ops.preferences.addon_enable(module="dualform_blender")
+    install_as_documented()
     for o in list(bpy.data.objects):
         bpy.data.objects.remove(o)
     bpy.ops.import_mesh.ply(filepath=ply_path)
