@@ -27,6 +27,7 @@ import bpy
 import numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_arrays import key_positions, mesh_positions, shown  # noqa: E402
 from documented_install import install_as_documented  # noqa: E402
 
 np = numpy
@@ -53,31 +54,11 @@ def clear_scene():
         bpy.data.objects.remove(o)
 
 
-def positions(mesh) -> np.ndarray:
-    a = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-    mesh.vertices.foreach_get("co", a)
-    return a.reshape(-1, 3)
-
-
-def key_positions(obj, name) -> np.ndarray:
-    key = obj.data.shape_keys.key_blocks[name]
-    a = np.empty(len(key.data) * 3, dtype=np.float32)
-    key.data.foreach_get("co", a)
-    return a.reshape(-1, 3)
-
-
-def evaluated(obj) -> np.ndarray:
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    shown = positions(obj.evaluated_get(depsgraph).to_mesh())
-    obj.evaluated_get(depsgraph).to_mesh_clear()
-    return shown
-
-
 # -- 2. the asset
 clear_scene()
 bpy.ops.import_mesh.ply(filepath=ply_path)
 source = bpy.context.selected_objects[0]
-ply_rest = positions(source.data)
+ply_rest = mesh_positions(source.data)
 bpy.context.view_layer.objects.active = source
 bpy.ops.object.mode_set(mode="EDIT")
 bpy.ops.mesh.select_all(action="SELECT")
@@ -92,7 +73,7 @@ bpy.ops.import_scene.gltf(filepath=asset)
 cow = bpy.context.selected_objects[0]
 bpy.context.view_layer.objects.active = cow
 NAME = cow.name
-rest = positions(cow.data)
+rest = mesh_positions(cow.data)
 results["asset"] = {"vertices": len(rest), "positions": len(np.unique(rest, axis=0))}
 
 
@@ -122,7 +103,7 @@ def state() -> dict:
         groups = {g.name: [v.index for v in bm.verts if layer is not None and g.index in v[layer]]
                   for g in o.vertex_groups}
     else:
-        co = positions(o.data)
+        co = mesh_positions(o.data)
         groups = {g.name: bridge.group_vertices(o, g.name).tolist() for g in o.vertex_groups}
     keys = []
     if o.data.shape_keys is not None and bpy.context.mode != "EDIT_MESH":
@@ -210,7 +191,7 @@ results["deform_lift"] = list(bpy.ops.dualform.deform(translate=second_move, kee
                                                       key_name="Lift"))
 results["keys_after_lift"] = {k.name: k.value for k in obj().data.shape_keys.key_blocks}
 np.save(out / "lift_key.npy", key_positions(obj(), "Lift"))
-np.save(out / "lift_shown.npy", evaluated(obj()))
+np.save(out / "lift_shown.npy", shown(obj()))
 bpy.ops.ed.undo()
 undone = state()
 results["one_undo"] = {

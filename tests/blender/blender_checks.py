@@ -20,6 +20,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_arrays import key_positions, positions, shown  # noqa: E402
 from documented_install import install_as_documented  # noqa: E402
 
 ply_path, out_dir, hoof_file, *moves = sys.argv[sys.argv.index("--") + 1:]
@@ -28,29 +29,6 @@ translate = tuple(float(t) for t in moves[:3])
 second_translate = tuple(float(t) for t in moves[3:])
 hoof = [int(v) for v in Path(hoof_file).read_text().split()]
 results = {}
-
-
-def positions(obj) -> np.ndarray:
-    a = np.empty(len(obj.data.vertices) * 3, dtype=np.float32)
-    obj.data.vertices.foreach_get("co", a)
-    return a.reshape(-1, 3)
-
-
-def evaluated(obj) -> np.ndarray:
-    """The positions Blender shows: the shape keys' mix."""
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    mesh = obj.evaluated_get(depsgraph).to_mesh()
-    e = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-    mesh.vertices.foreach_get("co", e)
-    obj.evaluated_get(depsgraph).to_mesh_clear()
-    return e.reshape(-1, 3)
-
-
-def key_positions(obj, name) -> np.ndarray:
-    key = obj.data.shape_keys.key_blocks[name]
-    a = np.empty(len(key.data) * 3, dtype=np.float32)
-    key.data.foreach_get("co", a)
-    return a.reshape(-1, 3)
 
 
 def select_in_order(obj, vertices) -> None:
@@ -121,17 +99,17 @@ np.save(out / "deformed.npy", positions(cow))
 bpy.context.view_layer.objects.active = as_key
 results["deform_key"] = list(bpy.ops.dualform.deform(translate=translate, keep="SHAPE_KEY"))
 np.save(out / "key_basis.npy", positions(as_key))
-np.save(out / "key_evaluated.npy", evaluated(as_key))
+np.save(out / "key_evaluated.npy", shown(as_key))
 results["shape_keys"] = [k.name for k in as_key.data.shape_keys.key_blocks]
 
 # -- a second edit, into a named key: it starts from the shape shown, and
 # the first key goes to 0, so the two never add up
-np.save(out / "mix_before_lift.npy", evaluated(as_key))
+np.save(out / "mix_before_lift.npy", shown(as_key))
 results["deform_lift"] = list(bpy.ops.dualform.deform(translate=second_translate,
                                                       keep="SHAPE_KEY", key_name="Lift"))
 results["lift_keys"] = {k.name: k.value for k in as_key.data.shape_keys.key_blocks}
 np.save(out / "lift_key.npy", key_positions(as_key, "Lift"))
-np.save(out / "lift_evaluated.npy", evaluated(as_key))
+np.save(out / "lift_evaluated.npy", shown(as_key))
 np.save(out / "first_key.npy", key_positions(as_key, bridge.SHAPE_KEY_NAME))
 try:
     bpy.ops.dualform.deform(translate=translate, keep="MESH")

@@ -18,6 +18,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_arrays import positions  # noqa: E402
 from documented_install import install_as_documented  # noqa: E402
 
 ply_path, out_dir, hoof_file = sys.argv[sys.argv.index("--") + 1:]
@@ -33,12 +34,6 @@ def view3d():
             region = next(r for r in area.regions if r.type == "WINDOW")
             return window, area, region
     raise RuntimeError("no 3D view")
-
-
-def positions(obj):
-    a = np.empty(len(obj.data.vertices) * 3, dtype=np.float32)
-    obj.data.vertices.foreach_get("co", a)
-    return a.reshape(-1, 3)
 
 
 def select(obj, vertices):

@@ -14,17 +14,25 @@ void append_indented(std::string& out, std::string_view text, std::string_view i
     }
 }
 
+// NAME SYNOPSIS, then the summary on lines of its own; `synopsis_indent`
+// and `summary_indent` start the lines after the first.
+void append_command(std::string& out, const CommandHelp& command, std::string_view synopsis_indent,
+                    std::string_view summary_indent) {
+    out += command.name;
+    if (!command.synopsis.empty()) {
+        out += ' ';
+        append_indented(out, command.synopsis, synopsis_indent);
+    }
+    out += '\n';
+    out += summary_indent;
+    append_indented(out, command.summary, summary_indent);
+}
+
 }  // namespace
 
 std::string usage(const CommandHelp& command) {
     std::string out = "usage: dualform ";
-    out += command.name;
-    if (!command.synopsis.empty()) {
-        out += ' ';
-        append_indented(out, command.synopsis, "       ");
-    }
-    out += "\n  ";
-    append_indented(out, command.summary, "  ");
+    append_command(out, command, "       ", "  ");
     return out;
 }
 
@@ -37,13 +45,7 @@ std::string help_text() {
         "commands:\n";
     for (const CommandHelp& command : all_commands) {
         out += "  ";
-        out += command.name;
-        if (!command.synopsis.empty()) {
-            out += ' ';
-            append_indented(out, command.synopsis, "    ");
-        }
-        out += "\n        ";
-        append_indented(out, command.summary, "        ");
+        append_command(out, command, "    ", "        ");
         out += '\n';
     }
     out +=

@@ -40,6 +40,11 @@ def _edit_mesh_object(context):
     return obj if obj is not None and context.mode == "EDIT_MESH" else None
 
 
+def _has_active_group(context) -> bool:
+    obj = _mesh_object(context)
+    return obj is not None and obj.vertex_groups.active is not None
+
+
 def push_undo(label: str) -> None:
     if bpy.ops.ed.undo_push.poll():
         bpy.ops.ed.undo_push(message=label)
@@ -167,8 +172,7 @@ class DUALFORM_OT_group_as_roi(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = _mesh_object(context)
-        return obj is not None and obj.vertex_groups.active is not None
+        return _has_active_group(context)
 
     def execute(self, context):
         obj = context.active_object
@@ -237,8 +241,7 @@ class DUALFORM_OT_group_as_handle(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = _mesh_object(context)
-        return obj is not None and obj.vertex_groups.active is not None
+        return _has_active_group(context)
 
     def execute(self, context):
         obj = context.active_object

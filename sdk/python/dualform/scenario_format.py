@@ -230,6 +230,12 @@ class _Reader:
         what = f"a positive integer (at most {_number_text(float(limit), True)})"
         return int(self.number(f, what, lambda v: v.integer and 1.0 <= v.number <= limit))
 
+    @staticmethod
+    def optional(obj: _Field, key: str, parse, absent=None):
+        """``parse`` of the member ``key`` of ``obj`` when it is there."""
+        m = _member(obj, key)
+        return absent if m.value is None else parse(m)
+
     def index(self, f: _Field) -> int:
         return int(self.number(f, INDEX_RULE,
                                lambda v: v.integer and 0.0 <= v.number <= MAX_VERTEX_INDEX))
@@ -265,16 +271,12 @@ class _Reader:
             if f.value is not None and f.value.kind != STRING:
                 raise self.expected(f, "a string")
         mesh = self.mesh(_member(top, "mesh"))
-        subdivide = 0
-        f = _member(top, "subdivide")
-        if f.value is not None:
-            subdivide = int(self.number(
-                f, "an integer from 0 to 3",
-                lambda v: v.integer and 0.0 <= v.number <= MAX_SUBDIVISIONS))
+        subdivide = self.optional(top, "subdivide", lambda f: int(self.number(
+            f, "an integer from 0 to 3",
+            lambda v: v.integer and 0.0 <= v.number <= MAX_SUBDIVISIONS)), 0)
         roi = self.roi(_member(top, "roi"))
         handles = self.handles(_member(top, "handles"))
-        f = _member(top, "solver")
-        solver = self.solver(f) if f.value is not None else SolverSpec()
+        solver = self.optional(top, "solver", self.solver, SolverSpec())
         return Scenario(mesh, roi, handles, solver, subdivide, source=self.source)
 
     def mesh(self, f: _Field) -> str:
@@ -361,12 +363,8 @@ class _Reader:
             out.ball = self.ball(_member(f, "ball"))
         else:
             out.vertices = self.index_list(_member(f, "vertices"))
-        t = _member(f, "translate")
-        if t.value is not None:
-            out.translate = self.vec(t, 3)
-        r = _member(f, "rotate")
-        if r.value is not None:
-            out.rotate = self.rotate(r)
+        out.translate = self.optional(f, "translate", lambda t: self.vec(t, 3))
+        out.rotate = self.optional(f, "rotate", self.rotate)
         targets = _member(f, "targets")
         if targets.value is None:
             return out
@@ -405,15 +403,9 @@ class _Reader:
     def solver(self, f: _Field) -> SolverSpec:
         self.object(f, ("tolerance", "max_iterations", "handle_weight", "method"))
         out = SolverSpec()
-        t = _member(f, "tolerance")
-        if t.value is not None:
-            out.tolerance = self.positive(t)
-        m = _member(f, "max_iterations")
-        if m.value is not None:
-            out.max_iterations = self.count(m, 2147483647)
-        w = _member(f, "handle_weight")
-        if w.value is not None:
-            out.handle_weight = self.positive(w)
+        out.tolerance = self.optional(f, "tolerance", self.positive)
+        out.max_iterations = self.optional(f, "max_iterations", lambda m: self.count(m, 2147483647))
+        out.handle_weight = self.optional(f, "handle_weight", self.positive)
         m = _member(f, "method")
         if m.value is not None:
             if m.value.kind != STRING or m.value.text not in ("fitted_rotations", "paper"):
