@@ -63,8 +63,9 @@ def prepare(window, area, region):
         bpy.ops.dualform.add_handle()
         bpy.ops.object.mode_set(mode="OBJECT")
         bpy.ops.view3d.view_all()
-    state["rest"] = positions(cow).tobytes()
+    state["rest"] = state["original"] = positions(cow).tobytes()
     state["cow"] = cow
+    state["name"] = cow.name
 
 
 # Simulated events are handled after the timer returns, so the mouse is
@@ -113,7 +114,12 @@ def step():
         outside = np.setdiff1d(np.arange(len(p)), inside)
         results["enter_hoof_moved"] = float(moved[771])
         results["enter_outside_moved"] = float(moved[outside].max())
-        state["rest"] = p.tobytes()
+        # The kept drag is one undo step: Ctrl+Z puts the mesh back exactly.
+        with bpy.context.temp_override(window=window, area=area, region=region):
+            bpy.ops.ed.undo()
+        cow = state["cow"] = bpy.data.objects[state["name"]]
+        results["enter_undo_restored_bitwise"] = positions(cow).tobytes() == state["original"]
+        state["rest"] = positions(cow).tobytes()
     elif s == 9:
         results["escape_moving_while_dragging"] = bool(positions(cow).tobytes() != state["rest"])
         x, y = state["mouse"]

@@ -166,6 +166,7 @@ def test_modal_drag_in_a_3d_view_follows_the_mouse_and_enter_keeps_it(modal_ui, 
     assert modal_ui["moving_while_dragging"]
     assert modal_ui["enter_hoof_moved"] > 0.01 * run.diagonal
     assert modal_ui["enter_outside_moved"] == 0.0
+    assert modal_ui["enter_undo_restored_bitwise"]
 
 
 def test_modal_drag_in_a_3d_view_escape_restores_bit_for_bit(modal_ui):
