@@ -1,11 +1,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <string>
 #include <type_traits>
 
 #include "c_boundary.hpp"
+#include "core/number_text.hpp"
 #include "host_numbering.hpp"
 #include "mesh/normals.hpp"
 #include "objects.hpp"
@@ -296,6 +298,18 @@ extern "C" DFM_API dfm_result dfm_session_set_group_transform(dfm_session* sessi
                 return report(fn, DFM_ERROR_NUMERICAL,
                               "matrix element " + std::to_string(i) + " is not finite");
             }
+        }
+        // An all-zero or row-major matrix fails here instead of collapsing
+        // or misplacing the group.
+        if (matrix[3] != 0.0 || matrix[7] != 0.0 || matrix[11] != 0.0 || matrix[15] != 1.0) {
+            std::string message =
+                "matrix: the bottom row (elements 3, 7, 11, 15, column-major) must be 0 0 0 1 "
+                "for an affine transform; found";
+            for (const int i : {3, 7, 11, 15}) {
+                message += ' ';
+                append_number(message, matrix[i]);
+            }
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT, message);
         }
         std::lock_guard<std::mutex> lock(s->staging_mutex);
         for (std::size_t h = s->group_offsets[group]; h < s->group_offsets[group + 1]; ++h) {

@@ -131,10 +131,35 @@ TEST_CASE("dualform: every malformed corpus file is a clean exit 2") {
     }
 }
 
-TEST_CASE("dualform help exits 0 and lists the commands") {
+TEST_CASE("dualform help exits 0 and lists the commands, their options and glTF") {
     const auto r = dualform({"help"});
     CHECK(r.exit_code == 0);
     CHECK(r.out.find("info PATH|model:NAME") != std::string::npos);
+    for (const char* word : {"glTF", ".glb", "#mesh=NAME", "--morph-target NAME", "--roi-out",
+                             "--hard-handles", "--method", "--ply-float", "--obj-normals",
+                             "--preconditioner", "--workers", "--before-after", "--samples"}) {
+        CAPTURE(word);
+        CHECK(r.out.find(word) != std::string::npos);
+    }
+}
+
+TEST_CASE("dualform: every command answers --help with its usage and exit 0") {
+    for (const char* command : {"info", "convert", "deform", "bench", "pick", "roi", "render"}) {
+        CAPTURE(command);
+        for (const char* flag : {"--help", "-h"}) {
+            const auto r = dualform({command, flag});
+            CHECK(r.exit_code == 0);
+            CHECK(r.err.empty());
+            CHECK(r.out.rfind(std::string("usage: dualform ") + command + " ", 0) == 0);
+        }
+    }
+    const auto deform = dualform({"deform", "--help"});
+    CHECK(deform.out.find("--morph-target NAME") != std::string::npos);
+    // After other arguments too, and a bad argument still exits 2.
+    CHECK(dualform({"deform", "cow.json", "--help"}).exit_code == 0);
+    const auto bad = dualform({"deform", "--frobnicate"});
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err.find("usage: dualform deform SCENARIO") != std::string::npos);
 }
 
 namespace {

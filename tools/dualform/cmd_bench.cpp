@@ -19,6 +19,7 @@
 #include "dualform/edit_report.hpp"
 #include "dualform/file_output.hpp"
 #include "dualform/scenario.hpp"
+#include "dualform/usage.hpp"
 #include "json/json_writer.hpp"
 
 // Benchmarks scenarios: set-up and the solve from rest, repeated, then a
@@ -27,10 +28,6 @@ namespace dfm::cli {
 
 namespace {
 
-constexpr const char* usage =
-    "usage: dualform bench SCENARIO... [--repeat N] [--json FILE]\n"
-    "       [--preconditioner cholesky|incomplete_cholesky|jacobi] [--workers N]\n"
-    "       [--no-prediction] [--tolerance T]";
 constexpr int drag_frames = 60;
 
 void write_spread(json::JsonWriter& json, std::string_view key, std::vector<double> values) {
@@ -347,12 +344,13 @@ int run_bench(std::span<const std::string_view> args) {
         } else if (a == "--no-prediction") {
             overrides.predict_frames = false;
         } else if (a.starts_with("--")) {
-            return bad_input(std::string("unknown option '") + std::string(a) + "'\n" + usage);
+            return bad_input(std::string("unknown option '") + std::string(a) + "'\n" +
+                             usage(bench_help));
         } else {
             scenarios.emplace_back(a);
         }
     }
-    if (scenarios.empty()) return bad_input(usage);
+    if (scenarios.empty()) return bad_input(usage(bench_help));
     overrides.workers = static_cast<std::uint32_t>(workers);
 
     json::JsonWriter json;
