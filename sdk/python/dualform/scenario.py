@@ -228,7 +228,7 @@ def write_text_file(path: os.PathLike, text: str) -> None:
 def _quality(quality) -> dict:
     return {k: getattr(quality, k) for k in (
         "max_handle_error", "mean_abs_log_edge", "max_abs_log_edge", "mean_normal_change_deg",
-        "max_fixed_move", "dual_magnitude_error", "flipped_faces")}
+        "max_fixed_move", "dual_magnitude_error", "flipped_faces", "creased_edges")}
 
 
 def _warn_loads(level: LogLevel, log_id: LogId, message: str, warn: Callable[[str], None]) -> None:
