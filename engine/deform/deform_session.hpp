@@ -54,10 +54,10 @@ struct DeformSettings {
     // session). Null: the calling thread alone. Results do not depend on it.
     solver::ThreadPool* pool = nullptr;
     DeformMethod method = DeformMethod::fitted_rotations;
-    // Weight of the rigidity rows against the dual Laplacian rows
+    // Weight of the rigidity rows against the dual Laplacian rows for a ROI
+    // of up to 2,500 unknowns, smaller beyond (balanced_rigidity_weight)
     // (fitted_rotations only; 0 leaves the fitted rotations alone). More
-    // keeps lengths better and converges more slowly; 0.1 brings the camel's
-    // neck to the default tolerance in 28 iterations (docs/method.md).
+    // keeps lengths better and converges more slowly (docs/method.md).
     double rigidity_weight = 0.1;
 };
 
