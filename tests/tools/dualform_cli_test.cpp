@@ -270,6 +270,8 @@ TEST_CASE("dualform bench: set-up, solve and a 60-frame drag, as JSON") {
     CHECK(mib("session") + mib("mesh_model") < mib("peak_rss_mib"));
     CHECK(field(json, "frames") == "60");
     CHECK(field(json, "unconverged_frames") == "0");
+    CHECK(field(json, "most_flipped_faces") == "0");
+    CHECK(field(json, "most_creased_edges") == "0");
     CHECK(dualform({"bench", "--repeat", "0", "x.json"}).exit_code == 2);
 }
 

@@ -196,6 +196,10 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
     IterationParts frame_parts;
     int unconverged = 0;
     int predicted = 0;
+    // The worst frame's folds: a frame a host draws must not fold even
+    // where the last one does not. Measured outside the timed solves.
+    std::size_t most_flipped = 0;
+    std::size_t most_creased = 0;
     for (int f = 1; f <= drag_frames; ++f) {
         const double t = static_cast<double>(f) / drag_frames;
         for (std::size_t h = 0; h < start.size(); ++h)
@@ -208,6 +212,11 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
         frame_parts.add(frame.details, frame.info.iterations);
         unconverged += frame.info.converged ? 0 : 1;
         predicted += frame.details.predicted ? 1 : 0;
+        dfm_quality folds = {};
+        if (Status s = api_status(dfm_session_measure_quality(drag.get(), &folds, nullptr)); !s)
+            return s;
+        most_flipped = std::max(most_flipped, folds.flipped_faces);
+        most_creased = std::max(most_creased, folds.creased_edges);
     }
 
     // The drag's session, as it ends, and the mesh: what an edit holds.
@@ -254,6 +263,8 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
     json.key("frames").value(std::uint64_t{drag_frames});
     json.key("unconverged_frames").value(std::uint64_t(unconverged));
     json.key("predicted_frames").value(std::uint64_t(predicted));
+    json.key("most_flipped_faces").value(std::uint64_t{most_flipped});
+    json.key("most_creased_edges").value(std::uint64_t{most_creased});
     json.key("iterations")
         .value(
             std::uint64_t(std::accumulate(frame_iterations.begin(), frame_iterations.end(), 0.0)));
