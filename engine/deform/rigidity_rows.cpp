@@ -170,11 +170,68 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
             ring[r][k] = j == mesh::no_index ? mesh::no_index : row_of[j];
         }
     }
-    clusters_.build(ring, clusters_per_roi);
-    cluster_kept_.assign(clusters_.size(), glm::dquat(1.0, 0.0, 0.0, 0.0));
+    RotationClusters clusters;
+    clusters.build(ring, clusters_per_roi);
+
+    // A cluster's rows, weighted, are linear in their vertices as a row's
+    // are: Σ_f κ_fc A_f p = Σ_v p_v H_cvᵀ with H_cv = Σ_f κ_fc G_f,slot(v),
+    // so its covariance is Σ_v p_v H_cvᵀ and its rows' share of Aᵀ t at v is
+    // R_c H_cv. Summed here once, cluster by cluster, from its rows in
+    // order.
+    heaviest_.assign(dual_rows, mesh::no_index);
+    std::vector<std::uint32_t> member_offsets(clusters.size() + 1, 0);
+    for (std::size_t r = 0; r < dual_rows; ++r) {
+        double heaviest = 0.0;
+        for (const RotationClusters::Membership& m : clusters.of(r)) {
+            ++member_offsets[m.cluster + 1];
+            if (m.weight > heaviest) {
+                heaviest = m.weight;
+                heaviest_[r] = m.cluster;
+            }
+        }
+    }
+    for (std::size_t c = 0; c < clusters.size(); ++c) member_offsets[c + 1] += member_offsets[c];
+    struct Member {
+        std::uint32_t row;
+        double weight;
+    };
+    std::vector<Member> members(member_offsets.back());
+    {
+        std::vector<std::uint32_t> fill(member_offsets.begin(), member_offsets.end() - 1);
+        for (std::size_t r = 0; r < dual_rows; ++r) {
+            for (const RotationClusters::Membership& m : clusters.of(r))
+                members[fill[m.cluster]++] = {static_cast<std::uint32_t>(r), m.weight};
+        }
+    }
+    cluster_offsets_.assign(1, 0);
+    cluster_pulls_.clear();
+    std::vector<std::uint32_t> pull_of(mesh.vertex_count(), mesh::no_index);
+    for (std::size_t c = 0; c < clusters.size(); ++c) {
+        const std::size_t first = cluster_pulls_.size();
+        for (std::uint32_t k = member_offsets[c]; k < member_offsets[c + 1]; ++k) {
+            const RigidityStencil& st = stencils_[members[k].row];
+            for (std::size_t i = 0; i < slots; ++i) {
+                glm::dvec3 g;
+                for (int x = 0; x < 3; ++x) g[x] = st.pulled[x][i] + st.dual[i] * st.rest_dual[x];
+                if (g == glm::dvec3(0.0)) continue;  // an unused slot
+                const std::uint32_t v = st.vertex[i];
+                if (pull_of[v] == mesh::no_index) {
+                    pull_of[v] = static_cast<std::uint32_t>(cluster_pulls_.size());
+                    cluster_pulls_.push_back({v, unknowns.unknown_of_vertex[v], glm::dvec3(0.0)});
+                }
+                cluster_pulls_[pull_of[v]].pulled += members[k].weight * g;
+            }
+        }
+        // By vertex, for the positions' sake.
+        std::sort(cluster_pulls_.begin() + static_cast<std::ptrdiff_t>(first), cluster_pulls_.end(),
+                  [](const ClusterPull& x, const ClusterPull& y) { return x.vertex < y.vertex; });
+        for (std::size_t k = first; k < cluster_pulls_.size(); ++k)
+            pull_of[cluster_pulls_[k].vertex] = mesh::no_index;
+        cluster_offsets_.push_back(static_cast<std::uint32_t>(cluster_pulls_.size()));
+    }
+    cluster_kept_.assign(clusters.size(), glm::dquat(1.0, 0.0, 0.0, 0.0));
     cluster_fitted_ = cluster_kept_;
-    cluster_rotations_.assign(clusters_.size(), glm::dmat3(1.0));
-    cluster_sums_.assign(2 * clusters_.size(), glm::dmat3(0.0));
+    cluster_rotations_.assign(clusters.size(), glm::dmat3(1.0));
 }
 
 std::size_t RotationFrames::rigidity_rows() const {
@@ -192,22 +249,25 @@ namespace {
 // compressive pushes folded far less (docs/method.md).
 constexpr double coarse_share = 0.5;
 
-// A row's own rotation's share of its target: all of it where no cluster
-// reaches the row.
-double own_share(const RotationClusters& clusters, std::size_t r) {
-    return clusters.of(r).empty() ? 1.0 : 1.0 - coarse_share;
-}
+// Per stencil of a deferred pass: its own share R_f G_i by slot and
+// coordinate, then the row's energy.
+constexpr std::size_t deferred_stride = 3 * slots + 1;
 
 struct FitPass {
     std::span<const RigidityStencil> stencils;
     std::span<const glm::dquat> kept;
     std::span<glm::dquat> fitted;
+    // Per row: its heaviest cluster, no_index for a row no cluster reaches,
+    // whose own rotation takes its whole target.
+    std::span<const std::uint32_t> heaviest;
+    std::span<const glm::dquat> cluster_rotations;  // the clusters' fits, as quaternions
     std::span<const glm::dvec3> positions;
     int steps;
-    const RotationClusters* clusters;
-    std::size_t first_row;  // of `stencils` in the whole
-    // This part's sums Σ κ_fc C_f by cluster.
-    std::span<glm::dmat3> cluster_sums;
+    std::span<double> rhs;
+    // Null: each row adds its share to rhs and the pass returns the energy.
+    // Otherwise each row's share and energy are kept here (deferred_stride
+    // doubles a row), for the caller to add in order.
+    double* deferred = nullptr;
 };
 
 // Two doubles, the width every x86-64 processor has: the slots go three
@@ -226,20 +286,20 @@ using SlotLanes = std::array<Lanes, lanes>;
     return v[0] + v[1];
 }
 
-// G_i of row s by coordinate: its rigidity rows' and its dual row's.
-[[gnu::always_inline]] inline void pulled_targets(const RigidityStencil& s,
-                                                  std::array<SlotLanes, 3>& g) {
-    const std::array<double, 3> rest_dual{s.rest_dual.x, s.rest_dual.y, s.rest_dual.z};
-    for (std::size_t x = 0; x < 3; ++x)
-        for (std::size_t l = 0; l < lanes; ++l)
-            g[x][l] = lanes_at(&s.pulled[x][2 * l]) + lanes_at(&s.dual[2 * l]) * rest_dual[x];
-}
+// What a dual row's fit needs before and after the rotation: |A_k p|²
+// summed over its rows and G_i by coordinate.
+struct PreparedRow {
+    double rows2;
+    std::array<SlotLanes, 3> g;
+};
 
 // Gathers dual row r's positions, fills lane `lane` of the covariance and
-// returns Σ_k |A_k p|² over its rows, which does not depend on the fit.
-[[gnu::always_inline]] inline double prepare_row(const FitPass& pass, std::size_t r,
-                                                 std::size_t lane, fit_lanes::Mat3& covariance) {
+// returns what the fit's result is applied with.
+[[gnu::always_inline]] inline void prepare_row(const FitPass& pass, std::size_t r, std::size_t lane,
+                                               fit_lanes::Mat3& covariance, PreparedRow& out) {
     const RigidityStencil& s = pass.stencils[r];
+    // By coordinate, as arrays: glm's vec3[i] is a switch.
+    const std::array<double, 3> rest_dual{s.rest_dual.x, s.rest_dual.y, s.rest_dual.z};
     // The lanes are loaded from the positions themselves: a copy of them
     // on the stack, read back in other pairs, stalls each load on the
     // stores it spans.
@@ -251,9 +311,9 @@ using SlotLanes = std::array<Lanes, lanes>;
         p[1][l] = Lanes{u.y, w.y};
         p[2][l] = Lanes{u.z, w.z};
     }
+    // |A_k p|² does not depend on the fit: taken before it.
     double rows2 = 0.0;
-    std::array<SlotLanes, 3> g;
-    pulled_targets(s, g);
+    std::array<SlotLanes, 3>& g = out.g;
     std::array<SlotLanes, 3> e;
     for (std::size_t x = 0; x < 3; ++x) {
         Lanes product = lanes_at(&s.dual[0]) * p[x][0];
@@ -261,16 +321,20 @@ using SlotLanes = std::array<Lanes, lanes>;
         const double dual = lane_sum(product);
         rows2 += dual * dual;
         const double origin = p[x][0][0];
-        // Σ_i G_i = 0 (every row's coefficients sum to zero): positions
-        // relative to the first slot give the same covariance, with less
-        // cancellation.
-        for (std::size_t l = 0; l < lanes; ++l) e[x][l] = p[x][l] - origin;
+        for (std::size_t l = 0; l < lanes; ++l) {
+            g[x][l] = lanes_at(&s.pulled[x][2 * l]) + lanes_at(&s.dual[2 * l]) * rest_dual[x];
+            // Σ_i G_i = 0 (every row's coefficients sum to zero):
+            // positions relative to the first slot give the same
+            // covariance, with less cancellation.
+            e[x][l] = p[x][l] - origin;
+        }
     }
     for (std::size_t k = 0; k < pairs; ++k) {
         const glm::dvec3 edge = pass.positions[s.vertex[s.pair_slot[k][0]]] -
                                 pass.positions[s.vertex[s.pair_slot[k][1]]];
         rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
     }
+    out.rows2 = rows2;
     for (int row = 0; row < 3; ++row) {
         for (int column = 0; column < 3; ++column) {
             Lanes sum = e[row][0] * g[column][0];
@@ -278,13 +342,46 @@ using SlotLanes = std::array<Lanes, lanes>;
             covariance.m[column][row][lane] = lane_sum(sum);
         }
     }
-    return rows2;
 }
 
-// The local step's first pass over a part of the rows: each row's own
-// rotation fitted (four rows at a time, side by side in the lanes of one
-// vector: rotation_fit_lanes.hpp), its covariance added to its clusters'
-// sums, and the rows' energy but for the clusters' alignment returned.
+// Adds dual row r's own share of Aᵀ t, its own rotation's share of its
+// target rotation times G_i, to the right-hand side; returns its energy but
+// for the clusters' alignment (fit_and_add's).
+[[gnu::always_inline]] inline double finish_row(const FitPass& pass, std::size_t r,
+                                                std::size_t lane, const fit_lanes::Mat3& rotation,
+                                                double alignment, const PreparedRow& in) {
+    const RigidityStencil& s = pass.stencils[r];
+    const double own = pass.heaviest[r] == mesh::no_index ? 1.0 : 1.0 - coarse_share;
+    const std::array<SlotLanes, 3>& g = in.g;
+    std::array<SlotLanes, 3> pull;  // own R_f G_i by coordinate
+    for (int x = 0; x < 3; ++x) {
+        const double r0 = own * rotation.m[0][x][lane];
+        const double r1 = own * rotation.m[1][x][lane];
+        const double r2 = own * rotation.m[2][x][lane];
+        for (std::size_t l = 0; l < lanes; ++l)
+            pull[x][l] = r0 * g[0][l] + r1 * g[1][l] + r2 * g[2][l];
+    }
+    const double energy = in.rows2 - 2.0 * own * alignment + s.rest_dual2 + s.pair_target2;
+    if (pass.deferred != nullptr) {
+        double* share = pass.deferred + r * deferred_stride;
+        for (std::size_t i = 0; i < slots; ++i)
+            for (std::size_t x = 0; x < 3; ++x) share[3 * i + x] = pull[x][i / 2][i % 2];
+        share[3 * slots] = energy;
+        return 0.0;
+    }
+    for (std::size_t i = 0; i < slots; ++i) {
+        if (s.unknown[i] == mesh::no_index) continue;
+        double* out = &pass.rhs[3 * s.unknown[i]];
+        out[0] += pull[0][i / 2][i % 2];
+        out[1] += pull[1][i / 2][i % 2];
+        out[2] += pull[2][i / 2][i % 2];
+    }
+    return energy;
+}
+
+// Four dual rows at a time, their rotations fitted side by side in the
+// lanes of one vector (rotation_fit_lanes.hpp); the right-hand side and
+// the energy still take the rows one by one, in order.
 [[gnu::always_inline]] inline double fit_rows_body(const FitPass& pass) {
     constexpr std::size_t width = fit_lanes::width;
     double energy = 0.0;
@@ -306,93 +403,56 @@ using SlotLanes = std::array<Lanes, lanes>;
         }
         fit_lanes::Mat3 covariance;
         fit_lanes::Quat q;
-        std::array<double, width> rows2;
+        std::array<PreparedRow, width> prepared;
         for (std::size_t lane = 0; lane < width; ++lane) {
             // Past the last row, a lane repeats the first: its result is
             // dropped, and it stops when that row's fit does.
             const std::size_t r = first + (lane < used ? lane : 0);
-            rows2[lane] = prepare_row(pass, r, lane, covariance);
+            prepare_row(pass, r, lane, covariance, prepared[lane]);
             const glm::dquat& kept = pass.kept[r];
             q.w[lane] = kept.w;
             q.x[lane] = kept.x;
             q.y[lane] = kept.y;
             q.z[lane] = kept.z;
         }
+        if (pass.steps > 1) {
+            // A solve's first fit may start far from the answer, and a row
+            // fitted alone from there can stop at a saddle of its alignment,
+            // where its cluster's many rows leave none (a whole cow turned
+            // by 60°): each row starts from its own kept rotation or its
+            // heaviest cluster's, whichever aligns it better.
+            fit_lanes::Quat cluster = q;
+            for (std::size_t lane = 0; lane < width; ++lane) {
+                const std::size_t r = first + (lane < used ? lane : 0);
+                if (pass.heaviest[r] == mesh::no_index) continue;
+                const glm::dquat& c = pass.cluster_rotations[pass.heaviest[r]];
+                cluster.w[lane] = c.w;
+                cluster.x[lane] = c.x;
+                cluster.y[lane] = c.y;
+                cluster.z[lane] = c.z;
+            }
+            fit_lanes::Mat3 own_start;
+            fit_lanes::Mat3 cluster_start;
+            fit_lanes::rotation_of(q, own_start);
+            fit_lanes::rotation_of(cluster, cluster_start);
+            fit_lanes::select(fit_lanes::alignment(cluster_start, covariance) >
+                                  fit_lanes::alignment(own_start, covariance),
+                              cluster, q);
+        }
         fit_lanes::Mat3 rotation;
         fit_lanes::Quad alignment;
         fit_rotations(covariance, q, pass.steps, rotation, alignment);
         for (std::size_t lane = 0; lane < used; ++lane) {
             const std::size_t r = first + lane;
-            const std::size_t row = pass.first_row + r;
-            const RigidityStencil& s = pass.stencils[r];
             pass.fitted[r] = glm::dquat(q.w[lane], q.x[lane], q.y[lane], q.z[lane]);
-            energy += rows2[lane] - 2.0 * own_share(*pass.clusters, row) * alignment[lane] +
-                      s.rest_dual2 + s.pair_target2;
-            for (const RotationClusters::Membership& m : pass.clusters->of(row)) {
-                glm::dmat3& sum = pass.cluster_sums[m.cluster];
-                for (int c = 0; c < 3; ++c)
-                    for (int i = 0; i < 3; ++i) sum[c][i] += m.weight * covariance.m[c][i][lane];
-            }
+            energy += finish_row(pass, r, lane, rotation, alignment[lane], prepared[lane]);
         }
     }
     return energy;
 }
 
-// The last pass: each row's target rotation, its own fit's share and its
-// clusters' blend, turns G_i into the row's share of Aᵀ t at each slot.
-struct SharePass {
-    std::span<const RigidityStencil> stencils;
-    std::span<const glm::dquat> fitted;
-    const RotationClusters* clusters;
-    std::size_t first_row;
-    std::span<const glm::dmat3> cluster_rotations;
-    std::span<double> rhs;
-    // Null: each row adds its share to rhs. Otherwise the shares are kept
-    // here (3 × slots doubles a row), for the caller to add in order.
-    double* deferred = nullptr;
-};
-
-constexpr std::size_t deferred_stride = 3 * slots;
-
-[[gnu::always_inline]] inline void add_shares_body(const SharePass& pass) {
-    for (std::size_t r = 0; r < pass.stencils.size(); ++r) {
-        const RigidityStencil& s = pass.stencils[r];
-        const std::size_t row = pass.first_row + r;
-        glm::dmat3 rotation = own_share(*pass.clusters, row) * glm::mat3_cast(pass.fitted[r]);
-        for (const RotationClusters::Membership& m : pass.clusters->of(row))
-            rotation += (coarse_share * m.weight) * pass.cluster_rotations[m.cluster];
-        std::array<SlotLanes, 3> g;
-        pulled_targets(s, g);
-        std::array<SlotLanes, 3> pull;  // the target rotation times G_i, by coordinate
-        for (int x = 0; x < 3; ++x) {
-            const double r0 = rotation[0][x];
-            const double r1 = rotation[1][x];
-            const double r2 = rotation[2][x];
-            for (std::size_t l = 0; l < lanes; ++l)
-                pull[x][l] = r0 * g[0][l] + r1 * g[1][l] + r2 * g[2][l];
-        }
-        if (pass.deferred != nullptr) {
-            double* share = pass.deferred + r * deferred_stride;
-            for (std::size_t i = 0; i < slots; ++i)
-                for (std::size_t x = 0; x < 3; ++x) share[3 * i + x] = pull[x][i / 2][i % 2];
-            continue;
-        }
-        for (std::size_t i = 0; i < slots; ++i) {
-            if (s.unknown[i] == mesh::no_index) continue;
-            double* out = &pass.rhs[3 * s.unknown[i]];
-            out[0] += pull[0][i / 2][i % 2];
-            out[1] += pull[1][i / 2][i % 2];
-            out[2] += pull[2][i / 2][i % 2];
-        }
-    }
-}
-
 double fit_rows_plain(const FitPass& pass) {
     return fit_rows_body(pass);
-}
-
-void add_shares_plain(const SharePass& pass) {
-    add_shares_body(pass);
 }
 
 #if DFM_X86_DISPATCH
@@ -402,10 +462,6 @@ __attribute__((target("avx2"))) double fit_rows_avx2(const FitPass& pass) {
 
 __attribute__((target("avx512f,avx512vl"))) double fit_rows_avx512(const FitPass& pass) {
     return fit_rows_body(pass);
-}
-
-__attribute__((target("avx2"))) void add_shares_avx2(const SharePass& pass) {
-    add_shares_body(pass);
 }
 #endif
 
@@ -417,14 +473,7 @@ double fit_rows(const FitPass& pass) {
     return fit_rows_plain(pass);
 }
 
-void add_shares(const SharePass& pass) {
-#if DFM_X86_DISPATCH
-    if (cpu::has_avx2()) return add_shares_avx2(pass);
-#endif
-    add_shares_plain(pass);
-}
-
-// Fewer rows than this take each pass on one thread: a second one's wake-up
+// Fewer rows than this are fitted by one thread: a second one's wake-up
 // would cost more than it saves.
 constexpr std::size_t split_minimum = 8192;
 
@@ -439,97 +488,82 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int st
         out[1] += c.coefficient * p.y;
         out[2] += c.coefficient * p.z;
     }
-    // The rows in two parts, whatever the threads: each part sums its own
-    // energy and its own clusters' covariances, and the second part's sums
-    // are added to the first's, so one thread and two give the same bits.
-    const std::size_t count = stencils_.size();
-    const std::size_t half = count / 2 - count / 2 % fit_lanes::width;
-    const bool split = pool != nullptr && pool->thread_count() >= 2 && count >= split_minimum;
-    const std::size_t clusters = clusters_.size();
-    std::array<double, 2> energy{};
-    const auto fit_parts = [&](int row_steps) {
-        std::fill(cluster_sums_.begin(), cluster_sums_.end(), glm::dmat3(0.0));
-        const auto fit_part = [&](std::size_t part) {
-            const std::size_t begin = part == 0 ? 0 : half;
-            const std::size_t end = part == 0 ? half : count;
-            energy[part] = fit_rows(FitPass{
-                std::span(stencils_).subspan(begin, end - begin),
-                std::span(kept_).subspan(begin, end - begin),
-                std::span(fitted_).subspan(begin, end - begin), positions, row_steps, &clusters_,
-                begin, std::span(cluster_sums_).subspan(part * clusters, clusters)});
-        };
-        if (split) {
-            pool->run(2, fit_part);
-        } else {
-            fit_part(0);
-            fit_part(1);
-        }
-    };
-    // The clusters' rotations, each fitted to the sum of its rows'
-    // covariances, weighted; returns their share of the energy.
-    const auto fit_clusters = [&] {
-        double alignment = 0.0;
-        for (std::size_t c = 0; c < clusters; ++c) {
-            const glm::dmat3 sum = cluster_sums_[c] + cluster_sums_[clusters + c];
-            glm::dquat q = cluster_kept_[c];
-            const RotationFit fit = fit_rotation(sum, q, steps);
-            cluster_fitted_[c] = q;
-            cluster_rotations_[c] = fit.rotation;
-            alignment += fit.alignment;
-        }
-        return -2.0 * coarse_share * alignment;
-    };
-    if (steps > 1 && clusters > 0) {
-        // A solve's first fit starts each row from its heaviest cluster's
-        // rotation: a row fitted alone from far away can stop at a saddle
-        // of its alignment, and a cluster's many rows leave it none.
-        fit_parts(0);
-        fit_clusters();
-        std::copy(cluster_fitted_.begin(), cluster_fitted_.end(), cluster_kept_.begin());
-        for (std::size_t r = 0; r < count; ++r) {
-            const auto members = clusters_.of(r);
-            if (members.empty()) continue;
-            const auto heaviest =
-                std::max_element(members.begin(), members.end(),
-                                 [](const auto& a, const auto& b) { return a.weight < b.weight; });
-            kept_[r] = cluster_kept_[heaviest->cluster];
-        }
-    }
-    fit_parts(steps);
-    const double total = energy[0] + energy[1] + fit_clusters();
 
-    const auto share_part = [&](std::size_t begin, std::size_t end, double* deferred) {
-        add_shares(SharePass{std::span(stencils_).subspan(begin, end - begin),
-                             std::span(fitted_).subspan(begin, end - begin), &clusters_, begin,
-                             cluster_rotations_, rhs, deferred});
-    };
-    if (!split) {
-        share_part(0, count, nullptr);
-        return total;
+    // The clusters' rotations first, each fitted to its rows' covariance
+    // Σ_v p_v H_cvᵀ (positions taken from its first vertex's: Σ_v H_cv = 0,
+    // and the sum cancels less).
+    const std::size_t clusters = cluster_kept_.size();
+    double cluster_alignment = 0.0;
+    for (std::size_t c = 0; c < clusters; ++c) {
+        const std::span<const ClusterPull> pulls = cluster_pulls(c);
+        glm::dmat3 covariance(0.0);
+        const glm::dvec3 origin = pulls.empty() ? glm::dvec3(0.0) : positions[pulls[0].vertex];
+        for (const ClusterPull& t : pulls)
+            covariance += glm::outerProduct(positions[t.vertex] - origin, t.pulled);
+        glm::dquat q = cluster_kept_[c];
+        const RotationFit fit = fit_rotation(covariance, q, steps);
+        cluster_fitted_[c] = q;
+        cluster_rotations_[c] = fit.rotation;
+        cluster_alignment += fit.alignment;
     }
-    // Two halves side by side: the first adds to rhs as it goes, the second
-    // keeps its rows' shares, which are then added after the first half's,
-    // row by row in order: the sums of the one-thread pass, bit for bit.
-    deferred_.resize((count - half) * deferred_stride);
-    pool->run(2, [&](std::size_t part) {
-        if (part == 0) {
-            share_part(0, half, nullptr);
-        } else {
-            share_part(half, count, deferred_.data());
-        }
-    });
-    for (std::size_t r = half; r < count; ++r) {
-        const RigidityStencil& s = stencils_[r];
-        const double* share = &deferred_[(r - half) * deferred_stride];
-        for (std::size_t i = 0; i < slots; ++i) {
-            if (s.unknown[i] == mesh::no_index) continue;
-            double* out = &rhs[3 * s.unknown[i]];
-            out[0] += share[3 * i];
-            out[1] += share[3 * i + 1];
-            out[2] += share[3 * i + 2];
+    const std::size_t count = stencils_.size();
+    const FitPass whole{stencils_,       kept_,     fitted_, heaviest_,
+                        cluster_fitted_, positions, steps,   rhs};
+    double energy = 0.0;
+    if (pool == nullptr || pool->thread_count() < 2 || count < split_minimum) {
+        energy = fit_rows(whole);
+    } else {
+        // Two halves side by side: the first adds to rhs as it goes, the
+        // second keeps its rows' shares and energies, which are then added
+        // after the first half's, row by row in order: the sums of the
+        // one-thread pass, bit for bit.
+        const std::size_t half = count / 2 - count / 2 % fit_lanes::width;
+        const auto part = [&](std::size_t begin, std::size_t end, double* deferred) {
+            return FitPass{std::span(stencils_).subspan(begin, end - begin),
+                           std::span(kept_).subspan(begin, end - begin),
+                           std::span(fitted_).subspan(begin, end - begin),
+                           std::span(heaviest_).subspan(begin, end - begin),
+                           cluster_fitted_,
+                           positions,
+                           steps,
+                           rhs,
+                           deferred};
+        };
+        deferred_.resize((count - half) * deferred_stride);
+        pool->run(2, [&](std::size_t task) {
+            if (task == 0) {
+                energy = fit_rows(part(0, half, nullptr));
+            } else {
+                fit_rows(part(half, count, deferred_.data()));
+            }
+        });
+        for (std::size_t r = half; r < count; ++r) {
+            const RigidityStencil& s = stencils_[r];
+            const double* share = &deferred_[(r - half) * deferred_stride];
+            for (std::size_t i = 0; i < slots; ++i) {
+                if (s.unknown[i] == mesh::no_index) continue;
+                double* out = &rhs[3 * s.unknown[i]];
+                out[0] += share[3 * i];
+                out[1] += share[3 * i + 1];
+                out[2] += share[3 * i + 2];
+            }
+            energy += share[3 * slots];
         }
     }
-    return total;
+
+    // The clusters' shares of Aᵀ t: θ R_c H_cv at each unknown.
+    for (std::size_t c = 0; c < clusters; ++c) {
+        const glm::dmat3 rotation = coarse_share * cluster_rotations_[c];
+        for (const ClusterPull& t : cluster_pulls(c)) {
+            if (t.unknown == mesh::no_index) continue;
+            const glm::dvec3 share = rotation * t.pulled;
+            double* out = &rhs[3 * t.unknown];
+            out[0] += share.x;
+            out[1] += share.y;
+            out[2] += share.z;
+        }
+    }
+    return energy - 2.0 * coarse_share * cluster_alignment;
 }
 
 }  // namespace dfm::deform

@@ -110,9 +110,9 @@ public:
     std::size_t dual_rows() const { return stencils_.size(); }
     std::size_t rigidity_rows() const;
     std::size_t memory_bytes() const {
-        return capacity_bytes(stencils_, fixed_, kept_, fitted_, deferred_, cluster_kept_,
-                              cluster_fitted_, cluster_rotations_, cluster_sums_) +
-               clusters_.memory_bytes();
+        return capacity_bytes(stencils_, fixed_, kept_, fitted_, deferred_, heaviest_,
+                              cluster_offsets_, cluster_pulls_, cluster_kept_, cluster_fitted_,
+                              cluster_rotations_);
     }
 
 private:
@@ -129,11 +129,25 @@ private:
     PooledVector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
     PooledVector<glm::dquat> fitted_;  // per dual row: the last fit
     std::vector<double> deferred_;     // the second half's shares in a two-thread fit
-    RotationClusters clusters_;
-    std::vector<glm::dquat> cluster_kept_;       // per cluster, as kept_
-    std::vector<glm::dquat> cluster_fitted_;     // per cluster, as fitted_
-    std::vector<glm::dmat3> cluster_rotations_;  // per cluster: the last fit's rotation
-    std::vector<glm::dmat3> cluster_sums_;       // the two parts' covariance sums by cluster
+    // One cluster's rows at vertex `vertex`: H_cv = Σ_f κ_fc G_f,slot(v)
+    // (build's comment).
+    struct ClusterPull {
+        std::uint32_t vertex;
+        std::uint32_t unknown;  // no_index: a fixed vertex
+        glm::dvec3 pulled;
+    };
+    std::span<const ClusterPull> cluster_pulls(std::size_t c) const {
+        return std::span(cluster_pulls_)
+            .subspan(cluster_offsets_[c], cluster_offsets_[c + 1] - cluster_offsets_[c]);
+    }
+
+    // Per dual row: its heaviest cluster (no_index: none reaches it).
+    std::vector<std::uint32_t> heaviest_;
+    std::vector<std::uint32_t> cluster_offsets_;  // per cluster, into cluster_pulls_
+    std::vector<ClusterPull> cluster_pulls_;      // by cluster, then vertex
+    std::vector<glm::dquat> cluster_kept_;        // per cluster, as kept_
+    std::vector<glm::dquat> cluster_fitted_;      // per cluster, as fitted_
+    std::vector<glm::dmat3> cluster_rotations_;   // per cluster: the last fit's rotation
 };
 
 }  // namespace dfm::deform

@@ -1,6 +1,7 @@
 #include "deform/rotation_clusters.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "mesh/mesh.hpp"
@@ -14,7 +15,7 @@ constexpr std::uint32_t unreached = std::numeric_limits<std::uint32_t>::max();
 // A cluster reaches the rows within twice the seeds' covering radius: every
 // row lies within one radius of a seed, so it blends that cluster and the
 // few beyond it, and its blend changes a little from one row to the next.
-constexpr std::uint32_t reach_factor = 2;
+constexpr double reach_factor = 2.0;
 
 // Steps from `from` to the rows it brings closer than `distance` says (all of
 // them when `distance` is fresh), below `limit`; the rows reached are
@@ -67,7 +68,7 @@ void RotationClusters::build(std::span<const std::array<std::uint32_t, 3>> ring,
     for (const std::uint32_t d : distance) {
         if (d != unreached) radius = std::max(radius, d);
     }
-    const std::uint32_t reach = reach_factor * radius;
+    const auto reach = static_cast<std::uint32_t>(std::ceil(reach_factor * radius));
 
     // Each cluster's rows within reach, weighed by a bump that falls
     // smoothly to zero there; the memberships gathered by row, in cluster

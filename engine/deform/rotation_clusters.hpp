@@ -5,8 +5,6 @@
 #include <span>
 #include <vector>
 
-#include "core/memory_bytes.hpp"
-
 // The default method's coarse rotation field (docs/method.md): the ROI's dual
 // rows gathered around a few seeds, each cluster turned by one rotation
 // fitted to the rows around it, and every row's coarse rotation a blend of
@@ -38,8 +36,6 @@ public:
     std::span<const Membership> of(std::size_t row) const {
         return std::span(members_).subspan(offsets_[row], offsets_[row + 1] - offsets_[row]);
     }
-
-    std::size_t memory_bytes() const { return capacity_bytes(offsets_, members_); }
 
 private:
     std::size_t cluster_count_ = 0;
