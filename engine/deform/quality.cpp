@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 
 namespace dfm::deform {
 
@@ -20,13 +21,13 @@ glm::dvec3 face_normal(const mesh::Triangle& t, std::span<const glm::dvec3> p) {
 
 // The signed angle between the normals of the faces on either side of edge
 // a → b, about that edge: 0 where they are flat, ±180° where folded shut.
-double dihedral(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& left,
-                const glm::dvec3& right) {
+// (cos, sin) of it, both scaled by the same positive factor.
+glm::dvec2 dihedral(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& left,
+                    const glm::dvec3& right) {
     const glm::dvec3 edge = b - a;
     const glm::dvec3 n1 = glm::cross(edge, left - a);
     const glm::dvec3 n2 = glm::cross(right - a, edge);
-    return std::atan2(glm::dot(glm::cross(n1, n2), edge) / std::max(glm::length(edge), 1e-300),
-                      glm::dot(n1, n2));
+    return {glm::dot(n1, n2) * glm::length(edge), glm::dot(glm::cross(n1, n2), edge)};
 }
 
 }  // namespace
@@ -102,10 +103,10 @@ QualityReport measure_quality(const MeshModel& model, std::span<const glm::dvec3
             const std::uint32_t d = u[0] != a && u[0] != b   ? u[0]
                                     : u[1] != a && u[1] != b ? u[1]
                                                              : u[2];
-            double turn = dihedral(deformed[a], deformed[b], deformed[c], deformed[d]) -
-                          dihedral(rest[a], rest[b], rest[c], rest[d]);
-            turn = std::abs(std::remainder(turn, 2.0 * std::numbers::pi));
-            if (turn > 0.5 * std::numbers::pi) ++q.creased_edges;
+            // The turn's cosine, cos(new − rest), up to a positive factor.
+            const glm::dvec2 now = dihedral(deformed[a], deformed[b], deformed[c], deformed[d]);
+            const glm::dvec2 before = dihedral(rest[a], rest[b], rest[c], rest[d]);
+            if (glm::dot(now, before) < 0.0) ++q.creased_edges;
         }
     }
     q.mean_normal_change_deg = faces > 0 ? angle_sum / static_cast<double>(faces) : 0.0;
