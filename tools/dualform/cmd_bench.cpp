@@ -30,15 +30,24 @@ namespace {
 
 constexpr int drag_frames = 60;
 
+// The value at fraction q of the sorted values (the nearest rank).
+double at_rank(const std::vector<double>& sorted, double q) {
+    return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1) + 0.5)];
+}
+
+double percentile(std::vector<double> values, double q) {
+    std::sort(values.begin(), values.end());
+    return at_rank(values, q);
+}
+
 void write_spread(json::JsonWriter& json, std::string_view key, std::vector<double> values) {
     std::sort(values.begin(), values.end());
-    const auto at = [&](double q) {
-        return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5)];
-    };
+    const auto at = [&](double q) { return at_rank(values, q); };
     json.key(key).begin_object();
     json.key("median").value(at(0.5));
     json.key("min").value(values.front());
     json.key("p90").value(at(0.9));
+    json.key("p99").value(at(0.99));
     json.key("max").value(values.back());
     json.end_object();
 }
@@ -50,8 +59,7 @@ double peak_rss_mib() {
 }
 
 double median(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    return values[values.size() / 2];
+    return percentile(std::move(values), 0.5);
 }
 
 // The parts of set-up, and of an outer iteration (ms per iteration), one
@@ -289,17 +297,18 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
     json.end_object();
     json.key("peak_rss_mib").value(peak_rss_mib());
     json.end_object();
-    std::fprintf(stderr,
-                 "%-28s setup %8.2f (rows %.2f assembly %.2f ordering %.2f symbolic %.2f "
-                 "numeric %.2f) | iteration %.3f (solve %.3f rhs %.3f normals %.3f anderson "
-                 "%.3f) | drag frame %.2f, %.0f iterations | session %.1f MiB, mesh %.1f, "
-                 "peak RSS %.1f\n",
-                 path.c_str(), median(setup), median(setup_parts.rows),
-                 median(setup_parts.assembly), median(setup_parts.ordering),
-                 median(setup_parts.symbolic), median(setup_parts.numeric), median(per_iteration),
-                 median(solve_parts.linear), median(solve_parts.rhs), median(solve_parts.normals),
-                 median(solve_parts.anderson), median(frame_ms), median(frame_iterations),
-                 mib(session_memory.total), mib(mesh_memory.total), peak_rss_mib());
+    std::fprintf(
+        stderr,
+        "%-28s setup %8.2f (rows %.2f assembly %.2f ordering %.2f symbolic %.2f "
+        "numeric %.2f) | iteration %.3f (solve %.3f rhs %.3f normals %.3f anderson "
+        "%.3f) | drag frame %.2f (p99 %.2f), %.0f iterations | session %.1f MiB, mesh %.1f, "
+        "peak RSS %.1f\n",
+        path.c_str(), median(setup), median(setup_parts.rows), median(setup_parts.assembly),
+        median(setup_parts.ordering), median(setup_parts.symbolic), median(setup_parts.numeric),
+        median(per_iteration), median(solve_parts.linear), median(solve_parts.rhs),
+        median(solve_parts.normals), median(solve_parts.anderson), median(frame_ms),
+        percentile(frame_ms, 0.99), median(frame_iterations), mib(session_memory.total),
+        mib(mesh_memory.total), peak_rss_mib());
     return Status::ok();
 }
 
