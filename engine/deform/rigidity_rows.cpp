@@ -176,58 +176,66 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
     // A cluster's rows, weighted, are linear in their vertices as a row's
     // are: Σ_f κ_fc A_f p = Σ_v p_v H_cvᵀ with H_cv = Σ_f κ_fc G_f,slot(v),
     // so its covariance is Σ_v p_v H_cvᵀ and its rows' share of Aᵀ t at v is
-    // R_c H_cv. Summed here once, cluster by cluster, from its rows in
-    // order.
+    // R_c H_cv. Summed here once, each H_cv over the rows in order; the rows
+    // are read in order twice (which pairs exist, then the sums), each
+    // cluster's vertices ascending.
+    const auto pulled_at = [](const RigidityStencil& st, std::size_t i) {
+        glm::dvec3 g;
+        for (int x = 0; x < 3; ++x) g[x] = st.pulled[x][i] + st.dual[i] * st.rest_dual[x];
+        return g;
+    };
     heaviest_.assign(dual_rows, mesh::no_index);
-    std::vector<std::uint32_t> member_offsets(clusters.size() + 1, 0);
+    std::vector<std::uint32_t> local_of(mesh.vertex_count(), mesh::no_index);
+    std::vector<std::uint32_t> touched;  // the vertices of the rows, ascending
+    for (const RigidityStencil& st : stencils_) {
+        for (std::size_t i = 0; i < slots; ++i) {
+            if (local_of[st.vertex[i]] == mesh::no_index) {
+                local_of[st.vertex[i]] = 0;
+                touched.push_back(st.vertex[i]);
+            }
+        }
+    }
+    std::sort(touched.begin(), touched.end());
+    for (std::size_t l = 0; l < touched.size(); ++l)
+        local_of[touched[l]] = static_cast<std::uint32_t>(l);
+    const std::size_t width = touched.size();
+    std::vector<std::uint32_t> pull_of(clusters.size() * width, mesh::no_index);
     for (std::size_t r = 0; r < dual_rows; ++r) {
+        const RigidityStencil& st = stencils_[r];
         double heaviest = 0.0;
         for (const RotationClusters::Membership& m : clusters.of(r)) {
-            ++member_offsets[m.cluster + 1];
             if (m.weight > heaviest) {
                 heaviest = m.weight;
                 heaviest_[r] = m.cluster;
             }
-        }
-    }
-    for (std::size_t c = 0; c < clusters.size(); ++c) member_offsets[c + 1] += member_offsets[c];
-    struct Member {
-        std::uint32_t row;
-        double weight;
-    };
-    std::vector<Member> members(member_offsets.back());
-    {
-        std::vector<std::uint32_t> fill(member_offsets.begin(), member_offsets.end() - 1);
-        for (std::size_t r = 0; r < dual_rows; ++r) {
-            for (const RotationClusters::Membership& m : clusters.of(r))
-                members[fill[m.cluster]++] = {static_cast<std::uint32_t>(r), m.weight};
+            for (std::size_t i = 0; i < slots; ++i) {
+                if (pulled_at(st, i) != glm::dvec3(0.0))  // else an unused slot
+                    pull_of[m.cluster * width + local_of[st.vertex[i]]] = 0;
+            }
         }
     }
     cluster_offsets_.assign(1, 0);
     cluster_pulls_.clear();
-    std::vector<std::uint32_t> pull_of(mesh.vertex_count(), mesh::no_index);
     for (std::size_t c = 0; c < clusters.size(); ++c) {
-        const std::size_t first = cluster_pulls_.size();
-        for (std::uint32_t k = member_offsets[c]; k < member_offsets[c + 1]; ++k) {
-            const RigidityStencil& st = stencils_[members[k].row];
+        for (std::size_t l = 0; l < width; ++l) {
+            std::uint32_t& pull = pull_of[c * width + l];
+            if (pull == mesh::no_index) continue;
+            pull = static_cast<std::uint32_t>(cluster_pulls_.size());
+            cluster_pulls_.push_back(
+                {touched[l], unknowns.unknown_of_vertex[touched[l]], glm::dvec3(0.0)});
+        }
+        cluster_offsets_.push_back(static_cast<std::uint32_t>(cluster_pulls_.size()));
+    }
+    for (std::size_t r = 0; r < dual_rows; ++r) {
+        const RigidityStencil& st = stencils_[r];
+        for (const RotationClusters::Membership& m : clusters.of(r)) {
             for (std::size_t i = 0; i < slots; ++i) {
-                glm::dvec3 g;
-                for (int x = 0; x < 3; ++x) g[x] = st.pulled[x][i] + st.dual[i] * st.rest_dual[x];
-                if (g == glm::dvec3(0.0)) continue;  // an unused slot
-                const std::uint32_t v = st.vertex[i];
-                if (pull_of[v] == mesh::no_index) {
-                    pull_of[v] = static_cast<std::uint32_t>(cluster_pulls_.size());
-                    cluster_pulls_.push_back({v, unknowns.unknown_of_vertex[v], glm::dvec3(0.0)});
-                }
-                cluster_pulls_[pull_of[v]].pulled += members[k].weight * g;
+                const glm::dvec3 g = pulled_at(st, i);
+                if (g == glm::dvec3(0.0)) continue;
+                cluster_pulls_[pull_of[m.cluster * width + local_of[st.vertex[i]]]].pulled +=
+                    m.weight * g;
             }
         }
-        // By vertex, for the positions' sake.
-        std::sort(cluster_pulls_.begin() + static_cast<std::ptrdiff_t>(first), cluster_pulls_.end(),
-                  [](const ClusterPull& x, const ClusterPull& y) { return x.vertex < y.vertex; });
-        for (std::size_t k = first; k < cluster_pulls_.size(); ++k)
-            pull_of[cluster_pulls_[k].vertex] = mesh::no_index;
-        cluster_offsets_.push_back(static_cast<std::uint32_t>(cluster_pulls_.size()));
     }
     cluster_kept_.assign(clusters.size(), glm::dquat(1.0, 0.0, 0.0, 0.0));
     cluster_fitted_ = cluster_kept_;
