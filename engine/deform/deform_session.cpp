@@ -219,7 +219,7 @@ SessionMemory DeformSession::memory() const {
     m.factor = linear.preconditioner;
     m.system = linear.matrix + rows_.memory_bytes() + frames_.memory_bytes() +
                capacity_bytes(unknowns_.unknown_of_vertex, unknowns_.vertex_of_unknown,
-                              handle_vertices_, soft_handles_, height_scale_);
+                              handle_vertices_, soft_handles_);
     m.iteration =
         linear.workspace + anderson_.memory_bytes() + predictor_.memory_bytes() +
         capacity_bytes(targets_, positions_, centroids_, dual_targets_, rhs_, x_, current_, next_);
@@ -277,12 +277,7 @@ void DeformSession::compute_dual_targets() {
     }
     for (std::size_t r = 0; r < rows_.size(); ++r) {
         const std::uint32_t f = rows_.faces[r];
-        double h = model_.dual.heights[f];
-        if (settings_.scale_heights) {
-            const double rest = mesh::triangle_area(mesh, mesh.positions, f);
-            if (rest > 0.0) h *= std::sqrt(mesh::triangle_area(mesh, positions_, f) / rest);
-        }
-        dual_targets_[r] = -h * dual::ring_normal(model_.dual, centroids_, f);
+        dual_targets_[r] = -model_.dual.heights[f] * dual::ring_normal(model_.dual, centroids_, f);
     }
 }
 

@@ -40,9 +40,6 @@ struct DeformSettings {
     // Ties what D cannot see to the previous iterate; relative to N's mean
     // diagonal. It vanishes at the fixed point, so it never moves the result.
     double regularization = 1e-9;
-    // Scales h by sqrt(area / rest area) so a stretched region keeps its
-    // relative detail. Off by default (docs/design.md).
-    bool scale_heights = false;
     // Accuracy of each linear solve, in units of the rest diagonal.
     double linear_tolerance = 1e-8;
     solver::PreconditionerKind preconditioner = solver::PreconditionerKind::cholesky;
@@ -58,10 +55,10 @@ struct DeformSettings {
     // session). Null: the calling thread alone. Results do not depend on it.
     jobs::WorkerPool* pool = nullptr;
     DeformMethod method = DeformMethod::fitted_rotations;
-    // Weight of the rigidity rows against the dual Laplacian rows
+    // Weight of the rigidity rows against the dual Laplacian rows for a ROI
+    // of up to 2,500 unknowns, smaller beyond (balanced_rigidity_weight)
     // (fitted_rotations only; 0 leaves the fitted rotations alone). More
-    // keeps lengths better and converges more slowly; 0.1 brings the camel's
-    // neck to the default tolerance in 28 iterations (docs/method.md).
+    // keeps lengths better and converges more slowly (docs/method.md).
     double rigidity_weight = 0.1;
 };
 
@@ -227,9 +224,8 @@ private:
     PooledVector<double> next_;
     AndersonAccelerator anderson_;
     FramePredictor predictor_;
-    RotationFrames frames_;              // fitted_rotations only
-    PooledVector<double> height_scale_;  // per dual row, with scale_heights
-    bool pinned_ = true;                 // the ROI has a fixed boundary
+    RotationFrames frames_;  // fitted_rotations only
+    bool pinned_ = true;     // the ROI has a fixed boundary
     SetupReport setup_;
     // A solve that Control::pause_after stopped: where its loop was.
     struct Paused {

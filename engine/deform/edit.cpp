@@ -1,9 +1,11 @@
 #include "deform/edit.hpp"
 
 #include <algorithm>
+#include <initializer_list>
 #include <new>
 
 #include "core/memory_bytes.hpp"
+#include "core/number_text.hpp"
 #include "mesh/normals.hpp"
 
 namespace dfm::deform {
@@ -74,6 +76,18 @@ Status Edit::set_group_transform(std::size_t group, const double* matrix) {
             return Status(Errc::numerical,
                           "matrix element " + std::to_string(i) + " is not finite");
         }
+    }
+    // An all-zero or row-major matrix fails here instead of collapsing or
+    // misplacing the group.
+    if (matrix[3] != 0.0 || matrix[7] != 0.0 || matrix[11] != 0.0 || matrix[15] != 1.0) {
+        std::string message =
+            "matrix: the bottom row (elements 3, 7, 11, 15, column-major) must be 0 0 0 1 "
+            "for an affine transform; found";
+        for (const int i : {3, 7, 11, 15}) {
+            message += ' ';
+            append_number(message, matrix[i]);
+        }
+        return Status(Errc::invalid_argument, message);
     }
     const auto target = [&](const glm::dvec3& p) {
         glm::dvec3 t;

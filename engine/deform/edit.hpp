@@ -36,7 +36,8 @@ public:
     // Stages group `group`'s transform, a column-major 4x4 affine matrix
     // applied to the group's rest positions. Errc::out_of_range for a group
     // out of range, Errc::numerical for a matrix or a target that is not
-    // finite (a finite matrix can overflow); nothing is staged then.
+    // finite (a finite matrix can overflow), Errc::invalid_argument for a
+    // bottom row other than 0 0 0 1; nothing is staged then.
     Status set_group_transform(std::size_t group, const double* matrix);
 
     // Stages explicit targets: read(h) for each handle vertex h in group

@@ -28,25 +28,14 @@ constexpr int first_fit_steps = 32;
 double DeformSession::fit_and_prepare(std::span<const double> x, int rotation_steps,
                                       SolveReport& report) {
     auto phase = std::chrono::steady_clock::now();
-    const mesh::Mesh& mesh = model_.mesh;
     for (std::size_t i = 0; i < unknowns_.count(); ++i) {
         positions_[unknowns_.vertex_of_unknown[i]] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
-    }
-    if (settings_.scale_heights) {
-        height_scale_.resize(frames_.dual_rows());
-        for (std::size_t r = 0; r < height_scale_.size(); ++r) {
-            const std::uint32_t f = rows_.faces[r];
-            const double rest = mesh::triangle_area(mesh, mesh.positions, f);
-            height_scale_[r] =
-                rest > 0.0 ? std::sqrt(mesh::triangle_area(mesh, positions_, f) / rest) : 1.0;
-        }
     }
     const double handles =
         write_handle_terms(x, soft_handles_, targets_, settings_.handle_weight, epsilon_, rhs_);
     report.rhs_ms += ms_since(phase);
     phase = std::chrono::steady_clock::now();
-    const double fitted =
-        frames_.fit_and_add(positions_, height_scale_, rotation_steps, rhs_, settings_.pool);
+    const double fitted = frames_.fit_and_add(positions_, rotation_steps, rhs_, settings_.pool);
     report.normals_ms += ms_since(phase);
     return handles + fitted;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 
 namespace dfm::deform {
 
@@ -16,6 +17,17 @@ glm::dvec3 face_normal(const mesh::Triangle& t, std::span<const glm::dvec3> p) {
     const glm::dvec3 n = glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]);
     const double len = glm::length(n);
     return len > 0.0 ? n / len : glm::dvec3(0.0);
+}
+
+// The signed angle between the normals of the faces on either side of edge
+// a → b, about that edge: 0 where they are flat, ±180° where folded shut.
+// (cos, sin) of it, both scaled by the same positive factor.
+glm::dvec2 dihedral(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& left,
+                    const glm::dvec3& right) {
+    const glm::dvec3 edge = b - a;
+    const glm::dvec3 n1 = glm::cross(edge, left - a);
+    const glm::dvec3 n2 = glm::cross(right - a, edge);
+    return {glm::dot(n1, n2) * glm::length(edge), glm::dot(glm::cross(n1, n2), edge)};
 }
 
 }  // namespace
@@ -76,6 +88,26 @@ QualityReport measure_quality(const MeshModel& model, std::span<const glm::dvec3
         magnitude_error += std::abs(glm::length(dual::dual_coordinate(model.dual, new_c, f)) - h);
         magnitude_sum += h;
         ++dual_faces;
+    }
+    // A fold turns the dihedral angle at its crease by about 180°; a rigid
+    // motion or a smooth bend turns none by 90°.
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
+        const mesh::Triangle& t = mesh.triangles[f];
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t g = model.topology.face_neighbors[f][k];
+            const std::uint32_t a = t[k];
+            const std::uint32_t b = t[(k + 1) % 3];
+            if (g == mesh::no_index || g < f || !in_roi[a] || !in_roi[b]) continue;
+            const std::uint32_t c = t[(k + 2) % 3];
+            const mesh::Triangle& u = mesh.triangles[g];
+            const std::uint32_t d = u[0] != a && u[0] != b   ? u[0]
+                                    : u[1] != a && u[1] != b ? u[1]
+                                                             : u[2];
+            // The turn's cosine, cos(new − rest), up to a positive factor.
+            const glm::dvec2 now = dihedral(deformed[a], deformed[b], deformed[c], deformed[d]);
+            const glm::dvec2 before = dihedral(rest[a], rest[b], rest[c], rest[d]);
+            if (glm::dot(now, before) < 0.0) ++q.creased_edges;
+        }
     }
     q.mean_normal_change_deg = faces > 0 ? angle_sum / static_cast<double>(faces) : 0.0;
     q.dual_magnitude_error = magnitude_sum > 0.0 ? magnitude_error / magnitude_sum : 0.0;

@@ -20,6 +20,9 @@ struct QualityReport {
     double max_fixed_move = 0.0;          // over vertices outside the ROI; must be 0
     double dual_magnitude_error = 0.0;    // mean | |l_f| - |h_f| | / mean |h_f| over ROI faces
     std::size_t flipped_faces = 0;        // ROI faces whose normal turned more than 90°
+    // Edges between two ROI vertices whose dihedral angle turned by more
+    // than 90° from rest: the creases of a fold, whatever the rigid motion.
+    std::size_t creased_edges = 0;
 };
 
 QualityReport measure_quality(const MeshModel& model, std::span<const glm::dvec3> deformed,

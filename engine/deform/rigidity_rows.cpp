@@ -1,6 +1,7 @@
 #include "deform/rigidity_rows.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include <glm/geometric.hpp>
@@ -37,11 +38,23 @@ std::uint32_t opposite_vertex(const mesh::Triangle& t, const mesh::Triangle& oth
 // (docs/method.md).
 constexpr double relative_edge_weight = 0.2;
 
+// Clusters of the coarse rotation field per ROI. Fewer carry a change of pose
+// across the ROI in fewer iterations and resist folds more; more follow
+// bends and twists more closely (docs/method.md).
+constexpr std::size_t clusters_per_roi = 16;
+
 }  // namespace
+
+double balanced_rigidity_weight(double weight, std::size_t unknowns) {
+    const double ratio = static_cast<double>(balance_unknowns) /
+                         static_cast<double>(std::max<std::size_t>(unknowns, 1));
+    return weight * std::sqrt(std::min(1.0, ratio));
+}
 
 void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, double weight,
                            const SystemRows& rows) {
     const mesh::Mesh& mesh = model.mesh;
+    weight = balanced_rigidity_weight(weight, unknowns.count());
     const std::size_t dual_rows = rows.size();
     // Edge rows are relative: a needle's short edge gets the weight of its
     // shortness. Lengths alone would let needles (the camel's head has edges
@@ -144,6 +157,89 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
     fixed_.resize(merged);
     kept_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
     fitted_ = kept_;
+
+    // The coarse rotation field over the rows, neighbours across the dual
+    // edges between rows.
+    std::vector<std::uint32_t> row_of(mesh.face_count(), mesh::no_index);
+    for (std::size_t r = 0; r < dual_rows; ++r)
+        row_of[rows.faces[r]] = static_cast<std::uint32_t>(r);
+    std::vector<std::array<std::uint32_t, 3>> ring(dual_rows);
+    for (std::size_t r = 0; r < dual_rows; ++r) {
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t j = model.dual.neighbors[rows.faces[r]][k];
+            ring[r][k] = j == mesh::no_index ? mesh::no_index : row_of[j];
+        }
+    }
+    RotationClusters clusters;
+    clusters.build(ring, clusters_per_roi);
+
+    // A cluster's rows, weighted, are linear in their vertices as a row's
+    // are: Σ_f κ_fc A_f p = Σ_v p_v H_cvᵀ with H_cv = Σ_f κ_fc G_f,slot(v),
+    // so its covariance is Σ_v p_v H_cvᵀ and its rows' share of Aᵀ t at v is
+    // R_c H_cv. Summed here once, each H_cv over the rows in order; the rows
+    // are read in order twice (which pairs exist, then the sums), each
+    // cluster's vertices ascending.
+    const auto pulled_at = [](const RigidityStencil& st, std::size_t i) {
+        glm::dvec3 g;
+        for (int x = 0; x < 3; ++x) g[x] = st.pulled[x][i] + st.dual[i] * st.rest_dual[x];
+        return g;
+    };
+    heaviest_.assign(dual_rows, mesh::no_index);
+    std::vector<std::uint32_t> local_of(mesh.vertex_count(), mesh::no_index);
+    std::vector<std::uint32_t> touched;  // the vertices of the rows, ascending
+    for (const RigidityStencil& st : stencils_) {
+        for (std::size_t i = 0; i < slots; ++i) {
+            if (local_of[st.vertex[i]] == mesh::no_index) {
+                local_of[st.vertex[i]] = 0;
+                touched.push_back(st.vertex[i]);
+            }
+        }
+    }
+    std::sort(touched.begin(), touched.end());
+    for (std::size_t l = 0; l < touched.size(); ++l)
+        local_of[touched[l]] = static_cast<std::uint32_t>(l);
+    const std::size_t width = touched.size();
+    std::vector<std::uint32_t> pull_of(clusters.size() * width, mesh::no_index);
+    for (std::size_t r = 0; r < dual_rows; ++r) {
+        const RigidityStencil& st = stencils_[r];
+        double heaviest = 0.0;
+        for (const RotationClusters::Membership& m : clusters.of(r)) {
+            if (m.weight > heaviest) {
+                heaviest = m.weight;
+                heaviest_[r] = m.cluster;
+            }
+            for (std::size_t i = 0; i < slots; ++i) {
+                if (pulled_at(st, i) != glm::dvec3(0.0))  // else an unused slot
+                    pull_of[m.cluster * width + local_of[st.vertex[i]]] = 0;
+            }
+        }
+    }
+    cluster_offsets_.assign(1, 0);
+    cluster_pulls_.clear();
+    for (std::size_t c = 0; c < clusters.size(); ++c) {
+        for (std::size_t l = 0; l < width; ++l) {
+            std::uint32_t& pull = pull_of[c * width + l];
+            if (pull == mesh::no_index) continue;
+            pull = static_cast<std::uint32_t>(cluster_pulls_.size());
+            cluster_pulls_.push_back(
+                {touched[l], unknowns.unknown_of_vertex[touched[l]], glm::dvec3(0.0)});
+        }
+        cluster_offsets_.push_back(static_cast<std::uint32_t>(cluster_pulls_.size()));
+    }
+    for (std::size_t r = 0; r < dual_rows; ++r) {
+        const RigidityStencil& st = stencils_[r];
+        for (const RotationClusters::Membership& m : clusters.of(r)) {
+            for (std::size_t i = 0; i < slots; ++i) {
+                const glm::dvec3 g = pulled_at(st, i);
+                if (g == glm::dvec3(0.0)) continue;
+                cluster_pulls_[pull_of[m.cluster * width + local_of[st.vertex[i]]]].pulled +=
+                    m.weight * g;
+            }
+        }
+    }
+    cluster_kept_.assign(clusters.size(), glm::dquat(1.0, 0.0, 0.0, 0.0));
+    cluster_fitted_ = cluster_kept_;
+    cluster_rotations_.assign(clusters.size(), glm::dmat3(1.0));
 }
 
 std::size_t RotationFrames::rigidity_rows() const {
@@ -154,16 +250,26 @@ std::size_t RotationFrames::rigidity_rows() const {
 
 namespace {
 
-// Per stencil of a deferred pass: R_f G_i by slot and coordinate, then the
-// row's energy.
+// The share of every row's rotation that comes from the coarse field
+// (rotation_clusters.hpp); the rest is the row's own fit. Half and half kept
+// the limbs' bends and twists within a few percent of the row's own
+// rotations while the whole armadillo converged in half the iterations and
+// compressive pushes folded far less (docs/method.md).
+constexpr double coarse_share = 0.5;
+
+// Per stencil of a deferred pass: its own share R_f G_i by slot and
+// coordinate, then the row's energy.
 constexpr std::size_t deferred_stride = 3 * slots + 1;
 
 struct FitPass {
     std::span<const RigidityStencil> stencils;
     std::span<const glm::dquat> kept;
     std::span<glm::dquat> fitted;
+    // Per row: its heaviest cluster, no_index for a row no cluster reaches,
+    // whose own rotation takes its whole target.
+    std::span<const std::uint32_t> heaviest;
+    std::span<const glm::dquat> cluster_rotations;  // the clusters' fits, as quaternions
     std::span<const glm::dvec3> positions;
-    std::span<const double> height_scale;
     int steps;
     std::span<double> rhs;
     // Null: each row adds its share to rhs and the pass returns the energy.
@@ -189,10 +295,9 @@ using SlotLanes = std::array<Doubles2, lanes>;
 }
 
 // What a dual row's fit needs before and after the rotation: |A_k p|²
-// summed over its rows, its target scale and G_i by coordinate.
+// summed over its rows and G_i by coordinate.
 struct PreparedRow {
     double rows2;
-    double scale;
     std::array<SlotLanes, 3> g;
 };
 
@@ -201,11 +306,8 @@ struct PreparedRow {
 [[gnu::always_inline]] inline void prepare_row(const FitPass& pass, std::size_t r, std::size_t lane,
                                                fit_lanes::Mat3& covariance, PreparedRow& out) {
     const RigidityStencil& s = pass.stencils[r];
-    const double scale = pass.height_scale.empty() ? 1.0 : pass.height_scale[r];
-    out.scale = scale;
     // By coordinate, as arrays: glm's vec3[i] is a switch.
-    const std::array<double, 3> rest_dual{scale * s.rest_dual.x, scale * s.rest_dual.y,
-                                          scale * s.rest_dual.z};
+    const std::array<double, 3> rest_dual{s.rest_dual.x, s.rest_dual.y, s.rest_dual.z};
     // The lanes are loaded from the positions themselves: a copy of them
     // on the stack, read back in other pairs, stalls each load on the
     // stores it spans.
@@ -250,22 +352,24 @@ struct PreparedRow {
     }
 }
 
-// Adds dual row r's share R_f G_i to the right-hand side; returns its energy.
+// Adds dual row r's own share of Aᵀ t, its own rotation's share of its
+// target rotation times G_i, to the right-hand side; returns its energy but
+// for the clusters' alignment (fit_and_add's).
 [[gnu::always_inline]] inline double finish_row(const FitPass& pass, std::size_t r,
                                                 std::size_t lane, const fit_lanes::Mat3& rotation,
                                                 double alignment, const PreparedRow& in) {
     const RigidityStencil& s = pass.stencils[r];
+    const double own = pass.heaviest[r] == mesh::no_index ? 1.0 : 1.0 - coarse_share;
     const std::array<SlotLanes, 3>& g = in.g;
-    std::array<SlotLanes, 3> pull;  // R_f G_i by coordinate
+    std::array<SlotLanes, 3> pull;  // own R_f G_i by coordinate
     for (int x = 0; x < 3; ++x) {
-        const double r0 = rotation.m[0][x][lane];
-        const double r1 = rotation.m[1][x][lane];
-        const double r2 = rotation.m[2][x][lane];
+        const double r0 = own * rotation.m[0][x][lane];
+        const double r1 = own * rotation.m[1][x][lane];
+        const double r2 = own * rotation.m[2][x][lane];
         for (std::size_t l = 0; l < lanes; ++l)
             pull[x][l] = r0 * g[0][l] + r1 * g[1][l] + r2 * g[2][l];
     }
-    const double energy =
-        in.rows2 - 2.0 * alignment + in.scale * in.scale * s.rest_dual2 + s.pair_target2;
+    const double energy = in.rows2 - 2.0 * own * alignment + s.rest_dual2 + s.pair_target2;
     if (pass.deferred != nullptr) {
         double* share = pass.deferred + r * deferred_stride;
         for (std::size_t i = 0; i < slots; ++i)
@@ -319,6 +423,30 @@ struct PreparedRow {
             q.y[lane] = kept.y;
             q.z[lane] = kept.z;
         }
+        if (pass.steps > 1) {
+            // A solve's first fit may start far from the answer, and a row
+            // fitted alone from there can stop at a saddle of its alignment,
+            // where its cluster's many rows leave none (a whole cow turned
+            // by 60°): each row starts from its own kept rotation or its
+            // heaviest cluster's, whichever aligns it better.
+            fit_lanes::Quat cluster = q;
+            for (std::size_t lane = 0; lane < width; ++lane) {
+                const std::size_t r = first + (lane < used ? lane : 0);
+                if (pass.heaviest[r] == mesh::no_index) continue;
+                const glm::dquat& c = pass.cluster_rotations[pass.heaviest[r]];
+                cluster.w[lane] = c.w;
+                cluster.x[lane] = c.x;
+                cluster.y[lane] = c.y;
+                cluster.z[lane] = c.z;
+            }
+            fit_lanes::Mat3 own_start;
+            fit_lanes::Mat3 cluster_start;
+            fit_lanes::rotation_of(q, own_start);
+            fit_lanes::rotation_of(cluster, cluster_start);
+            fit_lanes::select(fit_lanes::alignment(cluster_start, covariance) >
+                                  fit_lanes::alignment(own_start, covariance),
+                              cluster, q);
+        }
         fit_lanes::Mat3 rotation;
         fit_lanes::Quad alignment;
         fit_rotations(covariance, q, pass.steps, rotation, alignment);
@@ -359,8 +487,7 @@ constexpr std::size_t split_minimum = 8192;
 
 }  // namespace
 
-double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
-                                   std::span<const double> height_scale, int steps,
+double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int steps,
                                    std::span<double> rhs, jobs::WorkerPool* pool) {
     for (const FixedCoupling& c : fixed_) {
         const glm::dvec3& p = positions[c.vertex];
@@ -369,48 +496,82 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions,
         out[1] += c.coefficient * p.y;
         out[2] += c.coefficient * p.z;
     }
-    const std::size_t count = stencils_.size();
-    const FitPass whole{stencils_, kept_, fitted_, positions, height_scale, steps, rhs};
-    if (pool == nullptr || pool->thread_count() < 2 || count < split_minimum)
-        return fit_rows(whole);
-    // Two halves side by side: the first adds to rhs as it goes, the second
-    // keeps its rows' shares and energies, which are then added after the
-    // first half's, row by row in order: the sums of the one-thread pass,
-    // bit for bit.
-    const std::size_t half = count / 2 - count / 2 % fit_lanes::width;
-    const auto part = [&](std::size_t begin, std::size_t end, double* deferred) {
-        return FitPass{
-            std::span(stencils_).subspan(begin, end - begin),
-            std::span(kept_).subspan(begin, end - begin),
-            std::span(fitted_).subspan(begin, end - begin),
-            positions,
-            height_scale.empty() ? height_scale : height_scale.subspan(begin, end - begin),
-            steps,
-            rhs,
-            deferred};
-    };
-    deferred_.resize((count - half) * deferred_stride);
-    double energy = 0.0;
-    pool->run(2, [&](std::size_t task) {
-        if (task == 0) {
-            energy = fit_rows(part(0, half, nullptr));
-        } else {
-            fit_rows(part(half, count, deferred_.data()));
-        }
-    });
-    for (std::size_t r = half; r < count; ++r) {
-        const RigidityStencil& s = stencils_[r];
-        const double* share = &deferred_[(r - half) * deferred_stride];
-        for (std::size_t i = 0; i < slots; ++i) {
-            if (s.unknown[i] == mesh::no_index) continue;
-            double* out = &rhs[3 * s.unknown[i]];
-            out[0] += share[3 * i];
-            out[1] += share[3 * i + 1];
-            out[2] += share[3 * i + 2];
-        }
-        energy += share[3 * slots];
+
+    // The clusters' rotations first, each fitted to its rows' covariance
+    // Σ_v p_v H_cvᵀ (positions taken from its first vertex's: Σ_v H_cv = 0,
+    // and the sum cancels less).
+    const std::size_t clusters = cluster_kept_.size();
+    double cluster_alignment = 0.0;
+    for (std::size_t c = 0; c < clusters; ++c) {
+        const std::span<const ClusterPull> pulls = cluster_pulls(c);
+        glm::dmat3 covariance(0.0);
+        const glm::dvec3 origin = pulls.empty() ? glm::dvec3(0.0) : positions[pulls[0].vertex];
+        for (const ClusterPull& t : pulls)
+            covariance += glm::outerProduct(positions[t.vertex] - origin, t.pulled);
+        glm::dquat q = cluster_kept_[c];
+        const RotationFit fit = fit_rotation(covariance, q, steps);
+        cluster_fitted_[c] = q;
+        cluster_rotations_[c] = fit.rotation;
+        cluster_alignment += fit.alignment;
     }
-    return energy;
+    const std::size_t count = stencils_.size();
+    const FitPass whole{stencils_,       kept_,     fitted_, heaviest_,
+                        cluster_fitted_, positions, steps,   rhs};
+    double energy = 0.0;
+    if (pool == nullptr || pool->thread_count() < 2 || count < split_minimum) {
+        energy = fit_rows(whole);
+    } else {
+        // Two halves side by side: the first adds to rhs as it goes, the
+        // second keeps its rows' shares and energies, which are then added
+        // after the first half's, row by row in order: the sums of the
+        // one-thread pass, bit for bit.
+        const std::size_t half = count / 2 - count / 2 % fit_lanes::width;
+        const auto part = [&](std::size_t begin, std::size_t end, double* deferred) {
+            return FitPass{std::span(stencils_).subspan(begin, end - begin),
+                           std::span(kept_).subspan(begin, end - begin),
+                           std::span(fitted_).subspan(begin, end - begin),
+                           std::span(heaviest_).subspan(begin, end - begin),
+                           cluster_fitted_,
+                           positions,
+                           steps,
+                           rhs,
+                           deferred};
+        };
+        deferred_.resize((count - half) * deferred_stride);
+        pool->run(2, [&](std::size_t task) {
+            if (task == 0) {
+                energy = fit_rows(part(0, half, nullptr));
+            } else {
+                fit_rows(part(half, count, deferred_.data()));
+            }
+        });
+        for (std::size_t r = half; r < count; ++r) {
+            const RigidityStencil& s = stencils_[r];
+            const double* share = &deferred_[(r - half) * deferred_stride];
+            for (std::size_t i = 0; i < slots; ++i) {
+                if (s.unknown[i] == mesh::no_index) continue;
+                double* out = &rhs[3 * s.unknown[i]];
+                out[0] += share[3 * i];
+                out[1] += share[3 * i + 1];
+                out[2] += share[3 * i + 2];
+            }
+            energy += share[3 * slots];
+        }
+    }
+
+    // The clusters' shares of Aᵀ t: θ R_c H_cv at each unknown.
+    for (std::size_t c = 0; c < clusters; ++c) {
+        const glm::dmat3 rotation = coarse_share * cluster_rotations_[c];
+        for (const ClusterPull& t : cluster_pulls(c)) {
+            if (t.unknown == mesh::no_index) continue;
+            const glm::dvec3 share = rotation * t.pulled;
+            double* out = &rhs[3 * t.unknown];
+            out[0] += share.x;
+            out[1] += share.y;
+            out[2] += share.z;
+        }
+    }
+    return energy - 2.0 * coarse_share * cluster_alignment;
 }
 
 }  // namespace dfm::deform

@@ -11,6 +11,7 @@
 #include "core/pooled_allocator.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
+#include "deform/rotation_clusters.hpp"
 #include "jobs/worker_pool.hpp"
 
 // The default method's local step (docs/method.md). Each dual row f gets a
@@ -51,12 +52,26 @@ struct RigidityStencil {
     double pair_target2 = 0.0;                          // Σ_k |g_k|² over the rigidity rows
 };
 
+// ROIs of more unknowns than this take a rigidity weight smaller by the
+// square root of the ratio. Under a strain, a dual Laplacian row's residual
+// scales as h² (h the edge length) and a rigidity row's as h, so at a fixed
+// weight the finer mesh is the stiffer one: with the weight proportional to
+// h over the ROI's size, the same edit keeps its shape and its iteration
+// count at every level of detail. Smaller ROIs keep the weight, which was
+// tuned on them (docs/method.md).
+inline constexpr std::size_t balance_unknowns = 2500;
+
+// `weight` balanced for a ROI of `unknowns` unknowns (balance_unknowns).
+double balanced_rigidity_weight(double weight, std::size_t unknowns);
+
 class RotationFrames {
 public:
     // Makes the rigidity rows of each dual row of `rows` (those that touch
-    // an unknown), weighted by `weight` against the dual Laplacian rows, and
-    // starts every rotation at the identity. A's rows are the dual rows in
-    // their order, then each dual row's rigidity rows in turn.
+    // an unknown), weighted by balanced_rigidity_weight(`weight`) against
+    // the dual Laplacian rows, gathers the rows in clusters
+    // (rotation_clusters.hpp), and starts every rotation at the identity.
+    // A's rows are the dual rows in their order, then each dual row's
+    // rigidity rows in turn.
     void build(const MeshModel& model, const UnknownMap& unknowns, double weight,
                const SystemRows& rows);
 
@@ -69,27 +84,35 @@ public:
                                              double& epsilon,
                                              const std::atomic<bool>* stop = nullptr) const;
 
-    // The local step, and the global step's right-hand side in the same
-    // pass: fits each dual row's rotation to `positions` (the whole mesh),
-    // starting from the last kept fit (keep_fit) with at most `steps` Newton
-    // steps, then adds Aᵀ (t − A_fixed p_fixed) to rhs for the rows' targets
-    // t (3 interleaved columns; write_handle_terms starts it) and returns Σ_r |A_r p − t_r|², the
-    // rows' share of the energy (deform_energy.hpp). A fit never raises the energy of its rows over
-    // the kept rotations. `height_scale`, when not empty, scales each dual row's target
-    // (DeformSettings::scale_heights).
+    // The local step, and the global step's right-hand side: fits each dual
+    // row's own rotation R_f and each cluster's rotation R_c to `positions`
+    // (the whole mesh), starting from the last kept fits (keep_fit) with at
+    // most `steps` Newton steps, then adds Aᵀ (t − A_fixed p_fixed) to rhs
+    // (3 interleaved columns; write_handle_terms starts it) for the rows'
+    // targets t, and returns the rows' share of the energy
+    // (deform_energy.hpp):
+    //   Σ_f (1 − θ) |rows_f(p) − R_f g_f|² + θ Σ_c κ_fc |rows_f(p) − R_c g_f|²,
+    // θ the coarse field's share and κ_fc row f's weight in cluster c; each
+    // row's target rotation is then (1 − θ) R_f + θ Σ_c κ_fc R_c. A fit
+    // never raises the energy over the kept rotations.
     // With `pool` (optional) of two threads or more, a large ROI's rows are
     // fitted in two halves side by side, with the same bits.
-    double fit_and_add(std::span<const glm::dvec3> positions, std::span<const double> height_scale,
-                       int steps, std::span<double> rhs, jobs::WorkerPool* pool = nullptr);
+    double fit_and_add(std::span<const glm::dvec3> positions, int steps, std::span<double> rhs,
+                       jobs::WorkerPool* pool = nullptr);
 
     // Makes the last fit the next one's starting point. A refused trial step
     // is not kept: the next fit starts again from the rotations before it.
-    void keep_fit() { kept_.swap(fitted_); }
+    void keep_fit() {
+        kept_.swap(fitted_);
+        cluster_kept_.swap(cluster_fitted_);
+    }
 
     std::size_t dual_rows() const { return stencils_.size(); }
     std::size_t rigidity_rows() const;
     std::size_t memory_bytes() const {
-        return capacity_bytes(stencils_, fixed_, kept_, fitted_, deferred_);
+        return capacity_bytes(stencils_, fixed_, kept_, fitted_, deferred_, heaviest_,
+                              cluster_offsets_, cluster_pulls_, cluster_kept_, cluster_fitted_,
+                              cluster_rotations_);
     }
 
 private:
@@ -106,6 +129,25 @@ private:
     PooledVector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
     PooledVector<glm::dquat> fitted_;  // per dual row: the last fit
     std::vector<double> deferred_;     // the second half's shares in a two-thread fit
+    // One cluster's rows at vertex `vertex`: H_cv = Σ_f κ_fc G_f,slot(v)
+    // (build's comment).
+    struct ClusterPull {
+        std::uint32_t vertex;
+        std::uint32_t unknown;  // no_index: a fixed vertex
+        glm::dvec3 pulled;
+    };
+    std::span<const ClusterPull> cluster_pulls(std::size_t c) const {
+        return std::span(cluster_pulls_)
+            .subspan(cluster_offsets_[c], cluster_offsets_[c + 1] - cluster_offsets_[c]);
+    }
+
+    // Per dual row: its heaviest cluster (no_index: none reaches it).
+    std::vector<std::uint32_t> heaviest_;
+    std::vector<std::uint32_t> cluster_offsets_;  // per cluster, into cluster_pulls_
+    std::vector<ClusterPull> cluster_pulls_;      // by cluster, then vertex
+    std::vector<glm::dquat> cluster_kept_;        // per cluster, as kept_
+    std::vector<glm::dquat> cluster_fitted_;      // per cluster, as fitted_
+    std::vector<glm::dmat3> cluster_rotations_;   // per cluster: the last fit's rotation
 };
 
 }  // namespace dfm::deform

@@ -33,9 +33,9 @@ Status write_gltf(const GltfAsset& asset, std::span<const glm::dvec3> host_posit
                   std::span<const Triangle> host_triangles, const std::string& morph_target,
                   bool binary, std::string& out);
 
-// A fresh, minimal asset for a mesh that did not come from glTF: one node,
-// one mesh, POSITION and NORMAL and 32-bit indices.
+// A fresh, minimal asset for a mesh that did not come from glTF: one node
+// and one mesh, both called `name`, POSITION and NORMAL and 32-bit indices.
 void write_fresh_gltf(std::span<const glm::dvec3> positions, std::span<const Triangle> triangles,
-                      bool binary, std::string& out);
+                      const std::string& name, bool binary, std::string& out);
 
 }  // namespace dfm::mesh

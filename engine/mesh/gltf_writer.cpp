@@ -122,7 +122,8 @@ std::string finish(Document& d, bool binary) {
             buffers[b]["uri"] = "data:application/octet-stream;base64," + base64(d.buffers[b]);
         }
     }
-    std::string text = d.doc.dump();
+    // Names come from file names, which need not be UTF-8.
+    std::string text = d.doc.dump(-1, ' ', false, json::error_handler_t::replace);
     if (!binary) return text;
     while (text.size() % 4 != 0) text.push_back(' ');
     std::string bin = d.buffers.empty() ? std::string() : d.buffers[0];
@@ -198,7 +199,7 @@ Status write_gltf(const GltfAsset& asset, std::span<const glm::dvec3> host_posit
 }
 
 void write_fresh_gltf(std::span<const glm::dvec3> positions, std::span<const Triangle> triangles,
-                      bool binary, std::string& out) {
+                      const std::string& name, bool binary, std::string& out) {
     std::vector<glm::dvec3> normals(positions.size(), glm::dvec3(0.0));
     for (const Triangle& t : triangles) {
         const glm::dvec3 f =
@@ -219,7 +220,7 @@ void write_fresh_gltf(std::span<const glm::dvec3> positions, std::span<const Tri
     d.doc = {{"asset", {{"version", "2.0"}, {"generator", "Dualform"}}},
              {"scene", 0},
              {"scenes", json::array({{{"nodes", {0}}}})},
-             {"nodes", json::array({{{"mesh", 0}}})},
+             {"nodes", json::array({{{"mesh", 0}, {"name", name}}})},
              {"buffers", json::array({json::object()})},
              {"bufferViews", json::array()},
              {"accessors", json::array()}};
@@ -240,7 +241,8 @@ void write_fresh_gltf(std::span<const glm::dvec3> positions, std::span<const Tri
                                   {"count", 3 * triangles.size()},
                                   {"type", "SCALAR"}});
     d.doc["meshes"] = json::array(
-        {{{"primitives", json::array({{{"attributes", {{"POSITION", position}, {"NORMAL", normal}}},
+        {{{"name", name},
+          {"primitives", json::array({{{"attributes", {{"POSITION", position}, {"NORMAL", normal}}},
                                        {"indices", d.doc["accessors"].size() - 1},
                                        {"mode", 4}}})}}});
     out = finish(d, binary);

@@ -71,7 +71,8 @@ Status save_host_mesh(const std::filesystem::path& path, const Mesh& surface, co
                 return Status(s.code(), name + ": " + s.message());
             }
         } else {
-            write_fresh_gltf(positions, host.weld->host_triangles, binary, bytes);
+            write_fresh_gltf(positions, host.weld->host_triangles, path.stem().string(), binary,
+                             bytes);
         }
         return write_file_atomically(path, bytes);
     } catch (const std::bad_alloc&) {

@@ -22,7 +22,7 @@ Status save_mesh(const std::filesystem::path& path, const Mesh& mesh, const Writ
             case FileFormat::obj: write_obj(mesh, options, bytes); break;
             case FileFormat::ply: write_ply(mesh, options, bytes); break;
             case FileFormat::gltf:
-                write_fresh_gltf(mesh.positions, mesh.triangles,
+                write_fresh_gltf(mesh.positions, mesh.triangles, path.stem().string(),
                                  path.extension() == ".glb" || path.extension() == ".GLB", bytes);
                 break;
         }

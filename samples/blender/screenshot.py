@@ -1,22 +1,29 @@
 """Takes docs/figures/blender-addon.png: Blender with the add-on enabled,
 the cow's front leg Water-Filled (its ROI selected in Edit Mode) after a
-Dualform Deform, and the sidebar's Dualform tab open.
+Dualform Deform into the shape key "Step", and the sidebar's Dualform tab
+open.
 
 xvfb-run -s "-screen 0 1600x1000x24" blender --factory-startup \
     --enable-event-simulate --window-geometry 0 0 1600 1000 \
     --python samples/blender/screenshot.py -- ADDON.zip COW.ply OUT.png
 
-(ADDON.zip from samples/blender/package.py; COW.ply: the cow saved as PLY.)
-The sidebar's tab is switched as a user would, by a (simulated) click on
-it, since Blender 3.4 has no property for the active tab.
+(ADDON.zip from samples/blender/package.py; COW.ply: the cow saved as PLY;
+relative paths start from the current folder.) The sidebar's tab is
+switched as a user would, by a (simulated) click on it, since Blender 3.4
+has no property for the active tab. Any failure prints its traceback and
+ends Blender with exit status 1 (an error in a timer would otherwise leave
+it running).
 """
 
+import os
 import sys
+import traceback
 
 import bmesh
 import bpy
 
-zip_path, ply_path, out_png = sys.argv[sys.argv.index("--") + 1:]
+# Blender 3.4's add-on installer fails on a relative path.
+zip_path, ply_path, out_png = map(os.path.abspath, sys.argv[sys.argv.index("--") + 1:])
 
 
 def view3d():
@@ -67,7 +74,12 @@ def prepare():
             v.select = v.index in hoof
         bmesh.update_edit_mesh(cow.data)
         bpy.ops.dualform.add_handle()
-        bpy.ops.dualform.deform(translate=(0.09, 0.03, 0.0))
+        # The panel's numbers, and its Deform button.
+        settings = bpy.context.scene.dualform
+        settings.translate = (0.09, 0.03, 0.0)
+        settings.key_name = "Step"
+        bpy.ops.dualform.deform(translate=settings.translate, keep=settings.keep,
+                                key_name=settings.key_name)
         bm = bmesh.from_edit_mesh(cow.data)
         for v in bm.verts:
             v.select = v.index in roi
@@ -89,7 +101,7 @@ def prepare():
 state = {"step": 0}
 
 
-def step():
+def take_step():
     window, area, region, ui = view3d()
     if state["step"] == 0:
         state["step"] = 1
@@ -114,6 +126,15 @@ def step():
         bpy.ops.screen.screenshot(filepath=out_png)
     bpy.ops.wm.quit_blender()
     return None
+
+
+def step():
+    try:
+        return take_step()
+    except Exception:
+        traceback.print_exc()
+        sys.stdout.flush()
+        os._exit(1)
 
 
 bpy.app.timers.register(step, first_interval=1.0)

@@ -75,12 +75,32 @@ Status check_triangles(const mesh::Mesh& m) {
                                                       std::to_string(n) + " vertices)");
             }
         }
-        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) {
-            return Status(Errc::invalid_argument,
-                          "triangle " + std::to_string(t) + " repeats a vertex");
-        }
     }
     return Status::ok();
+}
+
+// Drops the triangles that repeat a vertex, as the file loaders do, and
+// returns the warning that says so (empty when none was dropped).
+std::string drop_repeating_triangles(mesh::Mesh& m) {
+    std::size_t first = 0;
+    std::size_t dropped = 0;
+    std::size_t kept = 0;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        const mesh::Triangle tri = m.triangles[t];
+        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) {
+            if (dropped++ == 0) first = t;
+        } else {
+            m.triangles[kept++] = tri;
+        }
+    }
+    m.triangles.resize(kept);
+    if (dropped == 0) return {};
+    if (dropped == 1) {
+        return "dfm_mesh_create: triangle " + std::to_string(first) + " repeats a vertex; dropped";
+    }
+    return "dfm_mesh_create: " + std::to_string(dropped) +
+           " triangles repeat a vertex; dropped (the first: triangle " + std::to_string(first) +
+           ")";
 }
 
 // What struct_size 0 stands for: dfm_mesh_desc as version 0.2 had it.
@@ -158,6 +178,13 @@ extern "C" DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_me
                         3 * sizeof(std::uint32_t));
         }
         if (Status s = check_triangles(m); !s) return report(fn, s);
+        if (const std::string warning = drop_repeating_triangles(m); !warning.empty()) {
+            c->state->emit(DFM_LOG_WARNING, DFM_LOG_ID_LOAD_WARNING, warning);
+        }
+        if (m.triangles.empty()) {
+            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
+                          "every triangle repeats a vertex: the mesh has no triangles");
+        }
         mesh::WeldOptions weld;
         if (Status s = weld_from(d, m, weld); !s) return report(fn, s);
         if (weld.mode == mesh::WeldMode::none) {

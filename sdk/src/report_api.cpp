@@ -49,6 +49,7 @@ extern "C" DFM_API dfm_result dfm_session_measure_quality(dfm_session* session, 
         out->max_fixed_move = q.max_fixed_move;
         out->dual_magnitude_error = q.dual_magnitude_error;
         out->flipped_faces = q.flipped_faces;
+        out->creased_edges = q.creased_edges;
         return DFM_OK;
     });
 }

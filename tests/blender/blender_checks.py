@@ -1,13 +1,15 @@
 """Runs inside headless Blender (tests/blender/test_blender_addon.py starts
-it): installs and enables the add-on from its zip, imports the cow from
-PLY, runs the operators as a user would and saves what they produced in
-OUT for the test to compare with the dualform tool.
+it, in the folder that holds dualform_blender.zip): installs and enables
+the add-on as docs/blender.md says, imports the cow from PLY, runs the
+operators as a user would and saves what they produced in OUT for the test
+to compare with the dualform tool.
 
 blender -b --factory-startup --python-exit-code 1 --python blender_checks.py --
-    ZIP PLY OUT HOOF_FILE TX TY TZ
+    PLY OUT HOOF_FILE TX TY TZ TX2 TY2 TZ2
 """
 
 import json
+import os
 import sys
 import time
 import types
@@ -17,17 +19,16 @@ import bmesh
 import bpy
 import numpy as np
 
-zip_path, ply_path, out_dir, hoof_file, tx, ty, tz = sys.argv[sys.argv.index("--") + 1:]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_arrays import key_positions, positions, shown  # noqa: E402
+from documented_install import install_as_documented  # noqa: E402
+
+ply_path, out_dir, hoof_file, *moves = sys.argv[sys.argv.index("--") + 1:]
 out = Path(out_dir)
-translate = (float(tx), float(ty), float(tz))
+translate = tuple(float(t) for t in moves[:3])
+second_translate = tuple(float(t) for t in moves[3:])
 hoof = [int(v) for v in Path(hoof_file).read_text().split()]
 results = {}
-
-
-def positions(obj) -> np.ndarray:
-    a = np.empty(len(obj.data.vertices) * 3, dtype=np.float32)
-    obj.data.vertices.foreach_get("co", a)
-    return a.reshape(-1, 3)
 
 
 def select_in_order(obj, vertices) -> None:
@@ -53,8 +54,7 @@ def duplicate(obj, name):
 
 
 # -- install and enable
-bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
-bpy.ops.preferences.addon_enable(module="dualform_blender")
+install_as_documented()
 import dualform  # noqa: E402  (importable once the add-on is enabled)
 from dualform_blender import bridge, operators  # noqa: E402
 
@@ -99,14 +99,23 @@ np.save(out / "deformed.npy", positions(cow))
 bpy.context.view_layer.objects.active = as_key
 results["deform_key"] = list(bpy.ops.dualform.deform(translate=translate, keep="SHAPE_KEY"))
 np.save(out / "key_basis.npy", positions(as_key))
-key = as_key.data.shape_keys.key_blocks[bridge.SHAPE_KEY_NAME]
-key.value = 1.0
-evaluated = as_key.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
-e = np.empty(len(evaluated.vertices) * 3, dtype=np.float32)
-evaluated.vertices.foreach_get("co", e)
-np.save(out / "key_evaluated.npy", e.reshape(-1, 3))
-as_key.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh_clear()
+np.save(out / "key_evaluated.npy", shown(as_key))
 results["shape_keys"] = [k.name for k in as_key.data.shape_keys.key_blocks]
+
+# -- a second edit, into a named key: it starts from the shape shown, and
+# the first key goes to 0, so the two never add up
+np.save(out / "mix_before_lift.npy", shown(as_key))
+results["deform_lift"] = list(bpy.ops.dualform.deform(translate=second_translate,
+                                                      keep="SHAPE_KEY", key_name="Lift"))
+results["lift_keys"] = {k.name: k.value for k in as_key.data.shape_keys.key_blocks}
+np.save(out / "lift_key.npy", key_positions(as_key, "Lift"))
+np.save(out / "lift_evaluated.npy", shown(as_key))
+np.save(out / "first_key.npy", key_positions(as_key, bridge.SHAPE_KEY_NAME))
+try:
+    bpy.ops.dualform.deform(translate=translate, keep="MESH")
+    results["mesh_with_keys"] = "accepted"
+except RuntimeError as error:
+    results["mesh_with_keys"] = str(error)
 
 
 # -- the modal operator, driven by synthetic events. Its window-free steps
@@ -124,7 +133,8 @@ class LinearMapping:
 
 
 def modal_driver(obj):
-    driver = types.SimpleNamespace(keep="MESH", report=lambda kind, text: print(kind, text))
+    driver = types.SimpleNamespace(keep="MESH", key_name="", bl_label="Dualform Drag",
+                                   report=lambda kind, text: print(kind, text))
     op = operators.DUALFORM_OT_drag
     for name in ("start", "modal", "_end", "_motion", "_header", "_restore_mode"):
         setattr(driver, name, getattr(op, name).__get__(driver))

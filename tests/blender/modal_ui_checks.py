@@ -1,13 +1,15 @@
-"""Runs inside Blender with a window (under Xvfb, --enable-event-simulate):
-the modal Dualform Drag invoked in the 3D view and driven by simulated
-mouse and keyboard events, as a user drives it. Writes OUT/modal_ui.json.
+"""Runs inside Blender with a window (under Xvfb, --enable-event-simulate),
+in the folder that holds dualform_blender.zip: the modal Dualform Drag
+invoked in the 3D view and driven by simulated mouse and keyboard events,
+as a user drives it. Writes OUT/modal_ui.json.
 
 xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup
     --enable-event-simulate --window-geometry 0 0 1280 800
-    --python modal_ui_checks.py -- ZIP PLY OUT HOOF_FILE
+    --python modal_ui_checks.py -- PLY OUT HOOF_FILE
 """
 
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -15,7 +17,11 @@ import bmesh
 import bpy
 import numpy as np
 
-zip_path, ply_path, out_dir, hoof_file = sys.argv[sys.argv.index("--") + 1:]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_arrays import positions  # noqa: E402
+from documented_install import install_as_documented  # noqa: E402
+
+ply_path, out_dir, hoof_file = sys.argv[sys.argv.index("--") + 1:]
 hoof = [int(v) for v in Path(hoof_file).read_text().split()]
 results = {}
 state = {"step": 0}
@@ -28,12 +34,6 @@ def view3d():
             region = next(r for r in area.regions if r.type == "WINDOW")
             return window, area, region
     raise RuntimeError("no 3D view")
-
-
-def positions(obj):
-    a = np.empty(len(obj.data.vertices) * 3, dtype=np.float32)
-    obj.data.vertices.foreach_get("co", a)
-    return a.reshape(-1, 3)
 
 
 def select(obj, vertices):
@@ -49,8 +49,7 @@ def select(obj, vertices):
 
 
 def prepare(window, area, region):
-    bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
-    bpy.ops.preferences.addon_enable(module="dualform_blender")
+    install_as_documented()
     for o in list(bpy.data.objects):
         bpy.data.objects.remove(o)
     bpy.ops.import_mesh.ply(filepath=ply_path)
@@ -64,8 +63,9 @@ def prepare(window, area, region):
         bpy.ops.dualform.add_handle()
         bpy.ops.object.mode_set(mode="OBJECT")
         bpy.ops.view3d.view_all()
-    state["rest"] = positions(cow).tobytes()
+    state["rest"] = state["original"] = positions(cow).tobytes()
     state["cow"] = cow
+    state["name"] = cow.name
 
 
 # Simulated events are handled after the timer returns, so the mouse is
@@ -114,7 +114,12 @@ def step():
         outside = np.setdiff1d(np.arange(len(p)), inside)
         results["enter_hoof_moved"] = float(moved[771])
         results["enter_outside_moved"] = float(moved[outside].max())
-        state["rest"] = p.tobytes()
+        # The kept drag is one undo step: Ctrl+Z puts the mesh back exactly.
+        with bpy.context.temp_override(window=window, area=area, region=region):
+            bpy.ops.ed.undo()
+        cow = state["cow"] = bpy.data.objects[state["name"]]
+        results["enter_undo_restored_bitwise"] = positions(cow).tobytes() == state["original"]
+        state["rest"] = positions(cow).tobytes()
     elif s == 9:
         results["escape_moving_while_dragging"] = bool(positions(cow).tobytes() != state["rest"])
         x, y = state["mouse"]

@@ -35,7 +35,7 @@ std::vector<Encoded> encodings() {
         out.push_back({"limb.ply", FileFormat::ply, bytes});
     }
     for (const bool binary : {true, false}) {
-        write_fresh_gltf(m.positions, m.triangles, binary, bytes);
+        write_fresh_gltf(m.positions, m.triangles, "mesh", binary, bytes);
         out.push_back({binary ? "limb.glb" : "limb.gltf", FileFormat::gltf, bytes});
     }
     return out;

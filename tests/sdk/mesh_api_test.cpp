@@ -121,14 +121,53 @@ TEST_CASE("mesh api: bad mesh descriptors are refused with the element named") {
     idx[7] = 999;
     CHECK(dfm_mesh_create(c.context, &d, &mesh) == DFM_ERROR_OUT_OF_RANGE);
     CHECK(message_has("triangle 2 corner 1: vertex 999"));
-    idx[7] = idx[6];
-    CHECK(dfm_mesh_create(c.context, &d, &mesh) == DFM_ERROR_INVALID_ARGUMENT);
-    CHECK(message_has("triangle 2 repeats"));
     idx[7] = grid.triangles[2][1];
     xyz[4] = std::numeric_limits<double>::quiet_NaN();
     CHECK(dfm_mesh_create(c.context, &d, &mesh) == DFM_ERROR_NUMERICAL);
     CHECK(message_has("vertex 1 is not finite"));
     CHECK(mesh == nullptr);
+}
+
+TEST_CASE("mesh api: a triangle that repeats a vertex is dropped with a warning, as on load") {
+    std::vector<std::string> warnings;
+    dfm_context_desc cd = {};
+    cd.log = [](void* user, dfm_log_level level, dfm_log_id id, const char* message) {
+        if (level == DFM_LOG_WARNING && id == DFM_LOG_ID_LOAD_WARNING) {
+            static_cast<std::vector<std::string>*>(user)->emplace_back(message);
+        }
+    };
+    cd.log_user = &warnings;
+    dfm_context* context = nullptr;
+    REQUIRE(dfm_context_create(&cd, &context) == DFM_OK);
+    const mesh::Mesh grid = make_grid(2, 2);
+    std::vector<std::uint32_t> idx;
+    for (const auto& t : grid.triangles) idx.insert(idx.end(), t.begin(), t.end());
+    idx[7] = idx[6];
+    dfm_mesh_desc d = {};
+    d.positions = {grid.positions.data(), grid.vertex_count(), 0, DFM_SCALAR_FLOAT64};
+    d.indices = idx.data();
+    d.triangle_count = grid.face_count();
+    dfm_mesh* mesh = nullptr;
+    REQUIRE_MESSAGE(dfm_mesh_create(context, &d, &mesh) == DFM_OK, dfm_last_error_message());
+    REQUIRE(warnings.size() == 1);
+    CHECK(warnings[0] == "dfm_mesh_create: triangle 2 repeats a vertex; dropped");
+    dfm_mesh_info info = {};
+    REQUIRE(dfm_mesh_get_info(mesh, &info) == DFM_OK);
+    CHECK(info.triangle_count == grid.face_count() - 1);
+    std::vector<std::uint32_t> kept(3 * info.triangle_count);
+    REQUIRE(dfm_mesh_read_indices(mesh, kept.data(), kept.size()) == DFM_OK);
+    idx.erase(idx.begin() + 6, idx.begin() + 9);
+    CHECK(kept == idx);
+    dfm_mesh_destroy(mesh);
+
+    const std::uint32_t degenerate[] = {0, 1, 1, 2, 2, 3};
+    d.indices = degenerate;
+    d.triangle_count = 2;
+    CHECK(dfm_mesh_create(context, &d, &mesh) == DFM_ERROR_INVALID_ARGUMENT);
+    CHECK(message_has("every triangle repeats a vertex"));
+    CHECK(warnings.back() ==
+          "dfm_mesh_create: 2 triangles repeat a vertex; dropped (the first: triangle 0)");
+    dfm_context_destroy(context);
 }
 
 TEST_CASE("mesh api: loading reports the file and line and element") {

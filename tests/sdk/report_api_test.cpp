@@ -43,6 +43,7 @@ TEST_CASE("reports: quality and solver figures of a solved limb edit") {
     CHECK(quality.max_abs_log_edge >= quality.mean_abs_log_edge);
     CHECK(quality.mean_normal_change_deg > 0.0);
     CHECK(quality.flipped_faces == 0);
+    CHECK(quality.creased_edges == 0);
 
     dfm_solve_report report = {};
     REQUIRE(dfm_session_get_solve_report(limb.session, &report, &info) == DFM_OK);

@@ -271,6 +271,15 @@ TEST_CASE("session: session misuse is refused with a code and a message") {
     m[13] = std::numeric_limits<double>::infinity();
     CHECK(dfm_session_set_group_transform(limb.session, 0, m) == DFM_ERROR_NUMERICAL);
     CHECK(message_has("element 13"));
+    // All zeros, or a translation in the bottom row (a row-major matrix):
+    // not an affine transform acting on column vectors.
+    const double zero[16] = {};
+    CHECK(dfm_session_set_group_transform(limb.session, 0, zero) == DFM_ERROR_INVALID_ARGUMENT);
+    CHECK(message_has("must be 0 0 0 1 for an affine transform; found 0 0 0 0"));
+    translation(0, 0, 0, m);
+    m[3] = 0.25;
+    CHECK(dfm_session_set_group_transform(limb.session, 0, m) == DFM_ERROR_INVALID_ARGUMENT);
+    CHECK(message_has("found 0.25 0 0 1"));
     std::vector<float> targets(3 * limb.tip.size(), 0.f);
     dfm_vec3_input in = {targets.data(), limb.tip.size() - 1, 0, DFM_SCALAR_FLOAT32};
     CHECK(dfm_session_set_targets(limb.session, &in) == DFM_ERROR_INVALID_ARGUMENT);

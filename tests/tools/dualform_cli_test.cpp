@@ -131,10 +131,35 @@ TEST_CASE("dualform: every malformed corpus file is a clean exit 2") {
     }
 }
 
-TEST_CASE("dualform help exits 0 and lists the commands") {
+TEST_CASE("dualform help exits 0 and lists the commands, their options and glTF") {
     const auto r = dualform({"help"});
     CHECK(r.exit_code == 0);
     CHECK(r.out.find("info PATH|model:NAME") != std::string::npos);
+    for (const char* word : {"glTF", ".glb", "#mesh=NAME", "--morph-target NAME", "--roi-out",
+                             "--hard-handles", "--method", "--ply-float", "--obj-normals",
+                             "--preconditioner", "--workers", "--before-after", "--samples"}) {
+        CAPTURE(word);
+        CHECK(r.out.find(word) != std::string::npos);
+    }
+}
+
+TEST_CASE("dualform: every command answers --help with its usage and exit 0") {
+    for (const char* command : {"info", "convert", "deform", "bench", "pick", "roi", "render"}) {
+        CAPTURE(command);
+        for (const char* flag : {"--help", "-h"}) {
+            const auto r = dualform({command, flag});
+            CHECK(r.exit_code == 0);
+            CHECK(r.err.empty());
+            CHECK(r.out.rfind(std::string("usage: dualform ") + command + " ", 0) == 0);
+        }
+    }
+    const auto deform = dualform({"deform", "--help"});
+    CHECK(deform.out.find("--morph-target NAME") != std::string::npos);
+    // After other arguments too, and a bad argument still exits 2.
+    CHECK(dualform({"deform", "cow.json", "--help"}).exit_code == 0);
+    const auto bad = dualform({"deform", "--frobnicate"});
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err.find("usage: dualform deform SCENARIO") != std::string::npos);
 }
 
 namespace {
@@ -160,7 +185,7 @@ TEST_CASE("dualform deform: writes the mesh, the ROI and a report with every fie
          {"mesh", "n_vertices", "n_faces", "n_roi", "n_handles", "iterations", "converged",
           "setup_ms", "solve_ms", "ms_per_iteration", "krylov_iterations", "max_handle_error",
           "mean_abs_log_edge", "max_abs_log_edge", "mean_normal_change_deg", "max_fixed_move",
-          "dual_magnitude_error"}) {
+          "dual_magnitude_error", "flipped_faces", "creased_edges"}) {
         CAPTURE(key);
         CHECK(field(json, key) != "<missing>");
     }
@@ -226,7 +251,7 @@ TEST_CASE("dualform bench: set-up, solve and a 60-frame drag, as JSON") {
     REQUIRE(r.exit_code == 0);
     const std::string json = dfm::test::read_text(json_path);
     for (const char* key :
-         {"setup_ms", "solve_ms", "median", "p90", "drag", "frame_ms", "iterations_per_frame",
+         {"setup_ms", "solve_ms", "median", "p90", "p99", "drag", "frame_ms", "iterations_per_frame",
           "peak_rss_mib", "quality", "memory_mib", "factor", "normal_matrix", "iteration",
           "frame_slots", "staging", "session", "mesh_model"}) {
         CAPTURE(key);
@@ -245,6 +270,8 @@ TEST_CASE("dualform bench: set-up, solve and a 60-frame drag, as JSON") {
     CHECK(mib("session") + mib("mesh_model") < mib("peak_rss_mib"));
     CHECK(field(json, "frames") == "60");
     CHECK(field(json, "unconverged_frames") == "0");
+    CHECK(field(json, "most_flipped_faces") == "0");
+    CHECK(field(json, "most_creased_edges") == "0");
     CHECK(dualform({"bench", "--repeat", "0", "x.json"}).exit_code == 2);
 }
 

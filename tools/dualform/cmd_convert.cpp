@@ -5,16 +5,9 @@
 
 #include "dualform/c_api.hpp"
 #include "dualform/commands.hpp"
+#include "dualform/usage.hpp"
 
 namespace dfm::cli {
-
-namespace {
-
-constexpr const char* usage =
-    "usage: dualform convert IN OUT [--ply ascii|binary_little_endian|binary_big_endian] "
-    "[--ply-float] [--obj-normals]";
-
-}  // namespace
 
 int run_convert(std::span<const std::string_view> args) {
     std::vector<std::string_view> paths;
@@ -38,12 +31,12 @@ int run_convert(std::span<const std::string_view> args) {
         } else if (a == "--obj-normals") {
             options.obj_normals = true;
         } else if (a.starts_with("--")) {
-            return bad_input("unknown option '" + std::string(a) + "'\n" + usage);
+            return bad_input("unknown option '" + std::string(a) + "'\n" + usage(convert_help));
         } else {
             paths.push_back(a);
         }
     }
-    if (paths.size() != 2) return bad_input(usage);
+    if (paths.size() != 2) return bad_input(usage(convert_help));
     ContextPtr context;
     if (Status s = create_context(context); !s) return bad_input(s.message());
     const std::string in(paths[0]);

@@ -9,15 +9,12 @@
 #include "dualform/edit_report.hpp"
 #include "dualform/file_output.hpp"
 #include "dualform/scenario.hpp"
+#include "dualform/usage.hpp"
 #include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
 namespace {
-
-constexpr const char* usage =
-    "usage: dualform deform SCENARIO --out MESH [--report JSON] [--roi-out TXT] [--strict]\n"
-    "       [--hard-handles] [--method fitted_rotations|paper] [--morph-target NAME]";
 
 double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
@@ -81,12 +78,13 @@ int run_deform(std::span<const std::string_view> args) {
             }
             method = name == "paper" ? DFM_METHOD_PAPER : DFM_METHOD_FITTED_ROTATIONS;
         } else if (a.starts_with("--") || !scenario_path.empty()) {
-            return bad_input(std::string("unexpected argument '") + std::string(a) + "'\n" + usage);
+            return bad_input(std::string("unexpected argument '") + std::string(a) + "'\n" +
+                             usage(deform_help));
         } else {
             scenario_path = std::string(a);
         }
     }
-    if (scenario_path.empty() || out_path.empty()) return bad_input(usage);
+    if (scenario_path.empty() || out_path.empty()) return bad_input(usage(deform_help));
 
     Scenario scenario;
     if (Status s = load_scenario(scenario_path, scenario); !s) return bad_input(s.message());

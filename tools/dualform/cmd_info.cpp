@@ -3,12 +3,13 @@
 
 #include "dualform/c_api.hpp"
 #include "dualform/commands.hpp"
+#include "dualform/usage.hpp"
 #include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
 int run_info(std::span<const std::string_view> args) {
-    if (args.size() != 1) return bad_input("usage: dualform info PATH|model:NAME");
+    if (args.size() != 1) return bad_input(usage(info_help));
     const std::string spec(args[0]);
     ContextPtr context;
     if (Status s = create_context(context); !s) return bad_input(s.message());

@@ -11,15 +11,12 @@
 #include "dualform/c_api.hpp"
 #include "dualform/commands.hpp"
 #include "dualform/scenario.hpp"
+#include "dualform/usage.hpp"
 #include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
 namespace {
-
-constexpr const char* usage =
-    "usage: dualform pick MESH --camera JSON --pixel X,Y [--bench N]\n"
-    "       JSON: a camera object inline (starting with '{') or a file holding one";
 
 bool parse_number(std::string_view text, double& out) {
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
@@ -99,12 +96,13 @@ int run_pick(std::span<const std::string_view> args) {
             }
             bench_rays = static_cast<std::size_t>(n);
         } else if (a.starts_with("--") || !mesh_spec.empty()) {
-            return bad_input(std::string("unexpected argument '") + std::string(a) + "'\n" + usage);
+            return bad_input(std::string("unexpected argument '") + std::string(a) + "'\n" +
+                             usage(pick_help));
         } else {
             mesh_spec = std::string(a);
         }
     }
-    if (mesh_spec.empty() || camera_text.empty() || !pixel) return bad_input(usage);
+    if (mesh_spec.empty() || camera_text.empty() || !pixel) return bad_input(usage(pick_help));
 
     dfm_camera camera{};
     if (Status s = read_camera_argument(camera_text, camera); !s) return bad_input(s.message());

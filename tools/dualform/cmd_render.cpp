@@ -12,17 +12,13 @@
 #include "dualform/dualform_vulkan.h"
 #include "dualform/render_scene.hpp"
 #include "dualform/scenario.hpp"
+#include "dualform/usage.hpp"
 #include "environment/host_environment.hpp"
 #include "json/json_writer.hpp"
 
 namespace dfm::cli {
 
 namespace {
-
-constexpr const char* usage =
-    "usage: dualform render (SCENARIO...|MESH) --png OUT [--camera JSON] [--width W --height H]\n"
-    "       [--before-after] [--wireframe] [--flat] [--samples 1|2|4] [--bench N]\n"
-    "       (several scenarios: successive edits of one mesh, each baked before the next)";
 
 struct RenderOptions {
     std::vector<std::string> inputs;
@@ -72,12 +68,13 @@ int parse(std::span<const std::string_view> args, RenderOptions& o) {
         } else if (a == "--flat") {
             o.flat = true;
         } else if (a.starts_with("--")) {
-            return bad_input("unexpected argument '" + std::string(a) + "'\n" + usage);
+            return bad_input("unexpected argument '" + std::string(a) + "'\n" + usage(render_help));
         } else {
             o.inputs.emplace_back(a);
         }
     }
-    if (o.inputs.empty() || (o.png.empty() && o.bench_frames == 0)) return bad_input(usage);
+    if (o.inputs.empty() || (o.png.empty() && o.bench_frames == 0))
+        return bad_input(usage(render_help));
     return 0;
 }
 

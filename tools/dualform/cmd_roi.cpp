@@ -5,15 +5,10 @@
 #include "dualform/commands.hpp"
 #include "dualform/file_output.hpp"
 #include "dualform/scenario.hpp"
+#include "dualform/usage.hpp"
 #include "json/json_writer.hpp"
 
 namespace dfm::cli {
-
-namespace {
-
-constexpr const char* usage = "usage: dualform roi SCENARIO --out TXT";
-
-}  // namespace
 
 int run_roi(std::span<const std::string_view> args) {
     std::string scenario_path, out_path;
@@ -23,12 +18,13 @@ int run_roi(std::span<const std::string_view> args) {
             if (i + 1 >= args.size()) return bad_input("--out needs a path");
             out_path = std::string(args[++i]);
         } else if (a.starts_with("--") || !scenario_path.empty()) {
-            return bad_input(std::string("unexpected argument '") + std::string(a) + "'\n" + usage);
+            return bad_input(std::string("unexpected argument '") + std::string(a) + "'\n" +
+                             usage(roi_help));
         } else {
             scenario_path = std::string(a);
         }
     }
-    if (scenario_path.empty() || out_path.empty()) return bad_input(usage);
+    if (scenario_path.empty() || out_path.empty()) return bad_input(usage(roi_help));
 
     Scenario scenario;
     if (Status s = load_scenario(scenario_path, scenario); !s) return bad_input(s.message());

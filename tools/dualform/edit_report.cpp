@@ -11,6 +11,7 @@ void write_quality(json::JsonWriter& json, const dfm_quality& q) {
     json.field("max_fixed_move", q.max_fixed_move);
     json.field("dual_magnitude_error", q.dual_magnitude_error);
     json.field("flipped_faces", q.flipped_faces);
+    json.field("creased_edges", q.creased_edges);
     json.end_object();
 }
 

@@ -1,8 +1,11 @@
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dualform/commands.hpp"
+#include "dualform/usage.hpp"
 
 namespace dfm::cli {
 
@@ -13,36 +16,12 @@ int bad_input(std::string_view message) {
 
 namespace {
 
-constexpr const char* help_text =
-    "dualform — real-time ROI mesh deformation with the dual Laplacian\n"
-    "\n"
-    "usage: dualform COMMAND [ARGS]\n"
-    "\n"
-    "commands:\n"
-    "  info PATH|model:NAME   print one JSON object describing the mesh\n"
-    "  convert IN OUT         write IN in the format OUT's extension names (.off .obj .ply)\n"
-    "  deform SCENARIO --out MESH [--report JSON] [--roi-out TXT] [--strict]\n"
-    "                         replay an edit scenario; prints its report as JSON\n"
-    "  bench SCENARIO... [--repeat N] [--json FILE]\n"
-    "                         time set-up, solve and a 60-frame drag; JSON out\n"
-    "  pick MESH --camera JSON --pixel X,Y [--bench N]\n"
-    "                         pick the surface through a camera pixel; prints the hit as JSON\n"
-    "                         (JSON: a camera object inline, or a file holding one;\n"
-    "                         --bench N times N picks instead)\n"
-    "  roi SCENARIO --out TXT write the scenario's ROI, one vertex a line; prints its size\n"
-    "                         and, for Water-Filling, the cut-loop diagnosis as JSON\n"
-    "  render (SCENARIO|MESH) --png OUT [--camera JSON] [--width W --height H]\n"
-    "         [--before-after] [--wireframe] [--flat] [--samples 1|2|4] [--bench N]\n"
-    "                         draw a mesh, or a scenario's result with its ROI red and\n"
-    "                         handles green, into a PNG (Vulkan, headless);\n"
-    "                         --before-after: rest and deformed side by side;\n"
-    "                         --samples: MSAA at most (default 4, where the device has it);\n"
-    "                         --bench N: time N frames with the position upload (JSON out)\n"
-    "  help                   print this text\n"
-    "\n"
-    "exit codes: 0 success, 2 bad input (error: ... on stderr), 1 the work failed\n"
-    "meshes: OFF, OBJ or PLY files; model:NAME is NAME.off in the model cache\n"
-    "        ($DUALFORM_MODELS, default ~/.cache/dualform/models; tools/fetch-models fills it)\n";
+// The command's usage on stdout when its arguments ask for it.
+std::optional<int> help_asked(const CommandHelp& command, std::span<const std::string_view> args) {
+    if (!asks_for_help(args)) return std::nullopt;
+    std::printf("%s\n", usage(command).c_str());
+    return exit_ok;
+}
 
 }  // namespace
 
@@ -52,18 +31,23 @@ int main(int argc, char** argv) {
     using namespace dfm::cli;
     try {
         if (argc < 2) {
-            std::fputs(help_text, stderr);
+            std::fputs(help_text().c_str(), stderr);
             return exit_bad_input;
         }
         const std::string_view command = argv[1];
         const std::vector<std::string_view> args(argv + 2, argv + argc);
-        if (command == "info") return run_info(args);
-        if (command == "convert") return run_convert(args);
-        if (command == "deform") return run_deform(args);
-        if (command == "bench") return run_bench(args);
-        if (command == "pick") return run_pick(args);
-        if (command == "roi") return run_roi(args);
+        using Run = int (*)(std::span<const std::string_view>);
+        const std::pair<const CommandHelp*, Run> commands[] = {
+            {&info_help, run_info},   {&convert_help, run_convert}, {&deform_help, run_deform},
+            {&bench_help, run_bench}, {&pick_help, run_pick},       {&roi_help, run_roi},
+        };
+        for (const auto& [help, run] : commands) {
+            if (command != help->name) continue;
+            if (const std::optional<int> code = help_asked(*help, args)) return *code;
+            return run(args);
+        }
         if (command == "render") {
+            if (const std::optional<int> code = help_asked(render_help, args)) return *code;
 #ifdef DUALFORM_HAS_RENDER
             return run_render(args);
 #else
@@ -73,7 +57,7 @@ int main(int argc, char** argv) {
 #endif
         }
         if (command == "help" || command == "--help" || command == "-h") {
-            std::fputs(help_text, stdout);
+            std::fputs(help_text().c_str(), stdout);
             return exit_ok;
         }
         return bad_input("unknown command '" + std::string(command) + "' (try 'dualform help')");

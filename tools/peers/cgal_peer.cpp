@@ -4,10 +4,12 @@
 // (--eval). The figures come from the rest and deformed positions alone.
 //
 //   dualform_cgal_peer --mesh M.off (--roi-file F | --roi-ball V R | --roi-all)
-//       (--handles-file F | --handle-ball V R) --translate X,Y,Z
+//       (--handles-file F | --handle-ball V R) [--rotate X,Y,Z,DEGREES] [--translate X,Y,Z]
 //       [--mode sre|arap] [--iterations N] [--out OUT.off] [--eval OTHER.off]
 //
-// Radii and the translation are fractions of the bounding-box diagonal. A
+// Radii and the translation are fractions of the bounding-box diagonal; the
+// rotation turns the handles about their rest centroid, before the
+// translation (a scenario's "pivot": "centroid"). A
 // ball is the set of vertices reachable from V along edges without leaving
 // the Euclidean ball (Dualform's scenario rule); the handle ball stays in the
 // ROI. Fixed: every vertex outside the ROI and every ROI vertex with a
@@ -46,6 +48,8 @@ struct Options {
     Ball roi_ball, handle_ball;
     bool roi_all = false;
     Vec translate = Vec::Zero();
+    Vec axis = Vec::UnitZ();
+    double degrees = 0.0;
     int iterations = 10;
 };
 
@@ -88,7 +92,14 @@ Options parse_options(int argc, char** argv) {
             ball(o.handle_ball);
         else if (a == "--translate")
             o.translate = parse_vector(value());
-        else if (a == "--mode")
+        else if (a == "--rotate") {
+            std::string t = value();
+            const std::size_t last = t.rfind(',');
+            if (last == std::string::npos) fail("--rotate expects X,Y,Z,DEGREES");
+            o.axis = parse_vector(t.substr(0, last));
+            o.degrees = std::stod(t.substr(last + 1));
+            if (!(o.axis.norm() > 0.0)) fail("--rotate: the axis must not be zero");
+        } else if (a == "--mode")
             o.mode = value();
         else if (a == "--iterations")
             o.iterations = std::stoi(value());
@@ -159,6 +170,10 @@ std::vector<char> connected_ball(const SurfaceMesh& m, const std::vector<Vec>& p
     return in;
 }
 
+std::size_t count(const std::vector<char>& set) {
+    return static_cast<std::size_t>(std::count(set.begin(), set.end(), 1));
+}
+
 struct Edit {
     double diag = 0.0;
     std::vector<char> roi, handle, fixed;
@@ -191,10 +206,18 @@ Edit make_edit(const Options& o, const SurfaceMesh& m, const std::vector<Vec>& p
         fail("no handles: --handles-file or --handle-ball");
     e.fixed.assign(n, 0);
     e.targets = p;
+    Vec pivot = Vec::Zero();
+    for (std::size_t v = 0; v < n; ++v) {
+        if (e.handle[v]) pivot += p[v];
+    }
+    pivot /= std::max<double>(1.0, static_cast<double>(count(e.handle)));
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(o.degrees * std::numbers::pi / 180.0, o.axis.normalized())
+            .toRotationMatrix();
     for (std::size_t v = 0; v < n; ++v) {
         if (e.handle[v] && !e.roi[v])
             fail("handle vertex " + std::to_string(v) + " is outside the ROI");
-        if (e.handle[v]) e.targets[v] = p[v] + o.translate * e.diag;
+        if (e.handle[v]) e.targets[v] = pivot + turn * (p[v] - pivot) + o.translate * e.diag;
         if (!e.roi[v]) {
             e.fixed[v] = 1;
             continue;
@@ -212,8 +235,16 @@ Edit make_edit(const Options& o, const SurfaceMesh& m, const std::vector<Vec>& p
 struct Figures {
     double handle_error = 0.0, edge_mean = 0.0, edge_max = 0.0, normal_mean = 0.0;
     double normal_max = 0.0, arap = 0.0, fixed_move = 0.0;
-    std::size_t flipped = 0, edges = 0, faces = 0;
+    std::size_t flipped = 0, creased = 0, edges = 0, faces = 0;
 };
+
+// The signed angle between the normals of the faces on either side of edge
+// a → b, about that edge.
+double dihedral(const Vec& a, const Vec& b, const Vec& left, const Vec& right) {
+    const Vec edge = b - a;
+    const Vec n1 = edge.cross(left - a), n2 = (right - a).cross(edge);
+    return std::atan2(n1.cross(n2).dot(edge) / std::max(edge.norm(), 1e-300), n1.dot(n2));
+}
 
 // Half the clamped cotangent of the corner at `c`, on the rest shape.
 double half_cotangent(const Vec& a, const Vec& b, const Vec& c) {
@@ -295,6 +326,19 @@ Figures measure(const SurfaceMesh& m, const Edit& e, const std::vector<Vec>& p,
         ++f.faces;
     }
     if (f.faces > 0) f.normal_mean /= static_cast<double>(f.faces);
+    // Creases: edges between two ROI vertices whose dihedral angle turned by
+    // more than 90° (Dualform's creased_edges).
+    for (auto h : m.halfedges()) {
+        const auto o = m.opposite(h);
+        if (m.is_border(h) || m.is_border(o) || h > o) continue;
+        const std::size_t a = m.source(h).idx(), b = m.target(h).idx();
+        if (!e.roi[a] || !e.roi[b]) continue;
+        const std::size_t c = m.target(m.next(h)).idx(), d = m.target(m.next(o)).idx();
+        const double turn =
+            std::remainder(dihedral(q[a], q[b], q[c], q[d]) - dihedral(p[a], p[b], p[c], p[d]),
+                           2.0 * std::numbers::pi);
+        if (std::abs(turn) > 0.5 * std::numbers::pi) ++f.creased;
+    }
     f.arap = arap_energy(m, e, p, q);
     return f;
 }
@@ -336,10 +380,6 @@ void write_off(const std::string& path, const SurfaceMesh& m, const std::vector<
     }
 }
 
-std::size_t count(const std::vector<char>& set) {
-    return static_cast<std::size_t>(std::count(set.begin(), set.end(), 1));
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -368,11 +408,13 @@ int main(int argc, char** argv) {
             "{\"engine\":\"%s\",\"iterations\":%d,\"deform_ms\":%.3f,\"n_roi\":%zu,"
             "\"n_handles\":%zu,\"n_fixed_in_roi\":%zu,\"handle_err_max\":%.3g,"
             "\"edge_log_mean\":%.5f,\"edge_log_max\":%.4f,\"normal_dev_mean_deg\":%.3f,"
-            "\"normal_dev_max_deg\":%.2f,\"n_flipped\":%zu,\"arap_energy_rel\":%.5g,"
+            "\"normal_dev_max_deg\":%.2f,\"n_flipped\":%zu,\"n_creased\":%zu,\"arap_energy_rel\":%."
+            "5g,"
             "\"fixed_disp_max\":%.3g,\"n_roi_edges\":%zu,\"n_roi_faces\":%zu}\n",
             engine.c_str(), o.eval.empty() ? o.iterations : 0, ms, count(e.roi), count(e.handle),
             count(e.fixed) - (p.size() - count(e.roi)), f.handle_error, f.edge_mean, f.edge_max,
-            f.normal_mean, f.normal_max, f.flipped, f.arap, f.fixed_move, f.edges, f.faces);
+            f.normal_mean, f.normal_max, f.flipped, f.creased, f.arap, f.fixed_move, f.edges,
+            f.faces);
         return 0;
     } catch (const std::exception& x) {
         std::fprintf(stderr, "dualform_cgal_peer: %s\n", x.what());

@@ -39,6 +39,7 @@ def register() -> None:
 
     for cls in panel.CLASSES + operators.CLASSES:
         bpy.utils.register_class(cls)
+    panel.register_settings()
     find_package()
 
 
@@ -47,5 +48,6 @@ def unregister() -> None:
 
     from . import operators, panel
 
+    panel.unregister_settings()
     for cls in reversed(panel.CLASSES + operators.CLASSES):
         bpy.utils.unregister_class(cls)

@@ -1,19 +1,23 @@
-"""The add-on's operators: Water-Fill ROI, Add Handle, the modal Dualform
-Drag and its non-interactive twin Dualform Deform."""
+"""The add-on's operators: the ROI (Water-Fill, grow or shrink, a vertex
+group as ROI), handle groups (from the selection or a vertex group), the
+modal Dualform Drag and its typed twin Dualform Deform. Each that changes
+something records one undo step (ObjectModeStep says how)."""
 
 import math
 
 import bmesh
 import bpy
 import numpy as np
-from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, StringProperty
+from bpy.props import (EnumProperty, FloatProperty, FloatVectorProperty, IntProperty,
+                       StringProperty)
 from mathutils import Vector
 
 from . import bridge
 
 KEEP_ITEMS = [
-    ("MESH", "Mesh", "write the result into the mesh"),
-    ("SHAPE_KEY", "Shape Key", "keep the mesh and add the result as a shape key (value 1)"),
+    ("MESH", "Mesh", "write the result into the mesh (a mesh without shape keys)"),
+    ("SHAPE_KEY", "Shape Key", "add the result as a new shape key at value 1, made from the "
+                               "shape shown; the other keys go to 0, so edits never add up"),
 ]
 
 
@@ -22,9 +26,69 @@ def _library(context) -> str:
     return addon.preferences.library_path if addon else ""
 
 
-def _edit_mesh_object(context):
+def _load_library(context) -> None:
+    bridge.dualform().load_library(_library(context) or None)
+
+
+def _mesh_object(context):
     obj = context.active_object
-    return obj if obj is not None and obj.type == "MESH" and context.mode == "EDIT_MESH" else None
+    return obj if obj is not None and obj.type == "MESH" else None
+
+
+def _edit_mesh_object(context):
+    obj = _mesh_object(context)
+    return obj if obj is not None and context.mode == "EDIT_MESH" else None
+
+
+def _has_active_group(context) -> bool:
+    obj = _mesh_object(context)
+    return obj is not None and obj.vertex_groups.active is not None
+
+
+def push_undo(label: str) -> None:
+    if bpy.ops.ed.undo_push.poll():
+        bpy.ops.ed.undo_push(message=label)
+
+
+class ObjectModeStep:
+    """The operator's work in object mode (where vertex groups, shape keys
+    and the mesh's arrays are current), back to edit mode after it when it
+    was called there. Once ``finished`` is set, the step records one undo
+    step, in object mode: Blender's edit-mode undo would restore the mesh's
+    vertices and weights but not a new vertex group's name, a shape key or
+    the object's properties, so the step is the whole-file kind, and undo
+    brings back exactly what was there (in edit mode, with the selection,
+    when the operator ran there). The operators have no UNDO option, which
+    would record a second, edit-mode step."""
+
+    def __init__(self, context, label: str) -> None:
+        self.edit = context.mode == "EDIT_MESH"
+        self.label = label
+        self.finished = False
+
+    def __enter__(self):
+        if self.edit:
+            bpy.ops.object.mode_set(mode="OBJECT")
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.finished:
+            push_undo(self.label)
+        if self.edit:
+            bpy.ops.object.mode_set(mode="EDIT")
+
+
+def _store_roi(obj, vertices: np.ndarray, count: int, diagnosis=None) -> None:
+    """The ROI group, and what the panel shows of it (cut loops only for a
+    Water-Filling)."""
+    bridge.set_group(obj, bridge.ROI_GROUP, vertices)
+    obj["dualform_roi_count"] = count
+    for key in ("dualform_roi_loops", "dualform_roi_suspect"):
+        if key in obj:
+            del obj[key]
+    if diagnosis is not None:
+        obj["dualform_roi_loops"] = diagnosis.loops
+        obj["dualform_roi_suspect"] = diagnosis.suspect
 
 
 class DUALFORM_OT_water_fill_roi(bpy.types.Operator):
@@ -33,7 +97,7 @@ class DUALFORM_OT_water_fill_roi(bpy.types.Operator):
 
     bl_idname = "dualform.water_fill_roi"
     bl_label = "Water-Fill ROI"
-    bl_options = {"REGISTER", "UNDO"}
+    bl_options = {"REGISTER"}
 
     @classmethod
     def poll(cls, context):
@@ -49,26 +113,104 @@ class DUALFORM_OT_water_fill_roi(bpy.types.Operator):
                                    "where the region ends")
             return {"CANCELLED"}
         first, last = picked[-2], picked[-1]
-        bpy.ops.object.mode_set(mode="OBJECT")
-        try:
-            bridge.dualform().load_library(_library(context) or None)
-            vertices, diagnosis = bridge.water_fill(obj, first, last)
-            group = obj.vertex_groups.get(bridge.ROI_GROUP)
-            if group is not None:
-                obj.vertex_groups.remove(group)
-            group = obj.vertex_groups.new(name=bridge.ROI_GROUP)
-            group.add(vertices.tolist(), 1.0, "REPLACE")
-            obj["dualform_roi_count"] = len(vertices)
-            obj["dualform_roi_loops"] = diagnosis.loops
-            obj["dualform_roi_suspect"] = diagnosis.suspect
-            text = bridge.diagnosis_text(len(vertices), diagnosis)
-        except Exception as error:  # the library's message, shown to the user
-            self.report({"ERROR"}, str(error))
-            return {"CANCELLED"}
-        finally:
-            bpy.ops.object.mode_set(mode="EDIT")
+        with ObjectModeStep(context, self.bl_label) as step:
+            try:
+                _load_library(context)
+                vertices, count, diagnosis = bridge.water_fill(obj, first, last)
+            except Exception as error:  # the library's message, shown to the user
+                self.report({"ERROR"}, str(error))
+                return {"CANCELLED"}
+            _store_roi(obj, vertices, count, diagnosis)
+            step.finished = True
+        text = bridge.diagnosis_text(count, len(vertices), diagnosis)
         self.report({"WARNING"} if diagnosis.suspect else {"INFO"}, text)
         return {"FINISHED"}
+
+
+class DUALFORM_OT_grow_roi(bpy.types.Operator):
+    """Grow (or, with negative rings, shrink) the 'Dualform ROI' group by
+    whole edge rings of the surface"""
+
+    bl_idname = "dualform.grow_roi"
+    bl_label = "Grow ROI"
+    bl_options = {"REGISTER"}
+
+    rings: IntProperty(name="Rings", default=1, min=-100, max=100,
+                       description="edge rings to add (negative: to remove)")
+
+    @classmethod
+    def poll(cls, context):
+        obj = _mesh_object(context)
+        return obj is not None and obj.vertex_groups.get(bridge.ROI_GROUP) is not None
+
+    def execute(self, context):
+        obj = context.active_object
+        with ObjectModeStep(context, self.bl_label) as step:
+            roi = bridge.group_vertices(obj, bridge.ROI_GROUP)
+            try:
+                _load_library(context)
+                vertices, count = bridge.grow(obj, roi, self.rings)
+            except Exception as error:
+                self.report({"ERROR"}, str(error))
+                return {"CANCELLED"}
+            if vertices.size == 0:
+                self.report({"ERROR"}, f"shrinking by {-self.rings} ring(s) leaves no ROI")
+                return {"CANCELLED"}
+            _store_roi(obj, vertices, count)
+            step.finished = True
+        self.report({"INFO"}, f"Dualform ROI: {count} vertices")
+        return {"FINISHED"}
+
+
+class DUALFORM_OT_group_as_roi(bpy.types.Operator):
+    """Use the active vertex group (with every seam copy of its vertices) as
+    the 'Dualform ROI'"""
+
+    bl_idname = "dualform.group_as_roi"
+    bl_label = "Active Group as ROI"
+    bl_options = {"REGISTER"}
+
+    @classmethod
+    def poll(cls, context):
+        return _has_active_group(context)
+
+    def execute(self, context):
+        obj = context.active_object
+        source = obj.vertex_groups.active.name
+        with ObjectModeStep(context, self.bl_label) as step:
+            chosen = bridge.group_vertices(obj, source)
+            if chosen.size == 0:
+                self.report({"ERROR"}, f"the vertex group '{source}' is empty")
+                return {"CANCELLED"}
+            try:
+                _load_library(context)
+                vertices, count = bridge.with_copies(obj, chosen)
+            except Exception as error:
+                self.report({"ERROR"}, str(error))
+                return {"CANCELLED"}
+            _store_roi(obj, vertices, count)
+            step.finished = True
+        self.report({"INFO"}, f"Dualform ROI from '{source}': {count} vertices")
+        return {"FINISHED"}
+
+
+def _add_handle(operator, context, step: ObjectModeStep, chosen: np.ndarray, source: str):
+    obj = context.active_object
+    if chosen.size == 0:
+        operator.report({"ERROR"}, f"{source} has no vertices")
+        return {"CANCELLED"}
+    try:
+        _load_library(context)
+        vertices, count = bridge.with_copies(obj, chosen)
+    except Exception as error:
+        operator.report({"ERROR"}, str(error))
+        return {"CANCELLED"}
+    name = bridge.next_handle_name(obj)
+    group = bridge.set_group(obj, name, vertices)
+    obj.vertex_groups.active_index = group.index
+    operator.report({"INFO"}, f"{name}: {count} vertices")
+    step.finished = True
+    return {"FINISHED"}
 
 
 class DUALFORM_OT_add_handle(bpy.types.Operator):
@@ -76,27 +218,37 @@ class DUALFORM_OT_add_handle(bpy.types.Operator):
 
     bl_idname = "dualform.add_handle"
     bl_label = "Add Handle"
-    bl_options = {"REGISTER", "UNDO"}
+    bl_options = {"REGISTER"}
 
     @classmethod
     def poll(cls, context):
         return _edit_mesh_object(context) is not None
 
     def execute(self, context):
+        with ObjectModeStep(context, self.bl_label) as step:
+            mesh = context.active_object.data
+            selected = np.zeros(len(mesh.vertices), dtype=bool)
+            mesh.vertices.foreach_get("select", selected)
+            return _add_handle(self, context, step, np.flatnonzero(selected), "the selection")
+
+
+class DUALFORM_OT_group_as_handle(bpy.types.Operator):
+    """Turn the active vertex group into a new handle group ('Dualform Handle N')"""
+
+    bl_idname = "dualform.group_as_handle"
+    bl_label = "Active Group as Handle"
+    bl_options = {"REGISTER"}
+
+    @classmethod
+    def poll(cls, context):
+        return _has_active_group(context)
+
+    def execute(self, context):
         obj = context.active_object
-        bm = bmesh.from_edit_mesh(obj.data)
-        selected = [v.index for v in bm.verts if v.select]
-        if not selected:
-            self.report({"ERROR"}, "select the handle's vertices first")
-            return {"CANCELLED"}
-        bpy.ops.object.mode_set(mode="OBJECT")
-        name = f"{bridge.HANDLE_PREFIX} {len(bridge.handle_group_names(obj)) + 1}"
-        group = obj.vertex_groups.new(name=name)
-        group.add(selected, 1.0, "REPLACE")
-        obj.vertex_groups.active_index = group.index
-        bpy.ops.object.mode_set(mode="EDIT")
-        self.report({"INFO"}, f"{name}: {len(selected)} vertices")
-        return {"FINISHED"}
+        source = obj.vertex_groups.active.name
+        with ObjectModeStep(context, self.bl_label) as step:
+            return _add_handle(self, context, step, bridge.group_vertices(obj, source),
+                               f"the vertex group '{source}'")
 
 
 def _active_handle(obj) -> str:
@@ -104,6 +256,17 @@ def _active_handle(obj) -> str:
     if group is not None and group.name.startswith(bridge.HANDLE_PREFIX):
         return group.name
     return ""
+
+
+def _kept_text(drag) -> str:
+    target = drag.target
+    if isinstance(target, bridge.ShapeKeyTarget):
+        text = f"Dualform: kept as the shape key '{target.key.name}' at value 1"
+        zeroed = target.zeroed()
+        if zeroed:
+            text += f"; set to 0: {', '.join(zeroed)} (each key holds a whole shape)"
+        return text
+    return "Dualform: kept in the mesh"
 
 
 class ViewMapping:
@@ -144,14 +307,15 @@ class DUALFORM_OT_drag(bpy.types.Operator):
 
     bl_idname = "dualform.drag"
     bl_label = "Dualform Drag"
-    bl_options = {"REGISTER", "UNDO", "BLOCKING"}
+    bl_options = {"REGISTER", "BLOCKING"}
 
     keep: EnumProperty(name="Keep", items=KEEP_ITEMS, default="MESH")
+    key_name: StringProperty(name="Shape Key", default=bridge.SHAPE_KEY_NAME,
+                             description="the new shape key's name (keep: Shape Key)")
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "MESH" and context.mode in {"OBJECT", "EDIT_MESH"}
+        return _mesh_object(context) is not None and context.mode in {"OBJECT", "EDIT_MESH"}
 
     def invoke(self, context, event):
         if context.area is None or context.area.type != "VIEW_3D":
@@ -173,7 +337,8 @@ class DUALFORM_OT_drag(bpy.types.Operator):
         if self.return_to_edit:
             bpy.ops.object.mode_set(mode="OBJECT")
         try:
-            self.drag = bridge.DragEdit(obj, _active_handle(obj) or None, _library(context) or None)
+            self.drag = bridge.DragEdit(obj, _active_handle(obj) or None,
+                                        _library(context) or None, self.keep, self.key_name)
         except Exception as error:
             self.report({"ERROR"}, str(error))
             self._restore_mode()
@@ -202,7 +367,9 @@ class DUALFORM_OT_drag(bpy.types.Operator):
         if self.timer is not None:
             context.window_manager.event_timer_remove(self.timer)
         if keep:
-            self.drag.finish(self.keep)
+            self.report({"INFO"}, _kept_text(self.drag))
+            self.drag.finish()
+            push_undo(self.bl_label)
         else:
             self.drag.cancel()
         self._header(context, None)
@@ -245,20 +412,24 @@ class DUALFORM_OT_drag(bpy.types.Operator):
 
 
 class DUALFORM_OT_deform(bpy.types.Operator):
-    """Deform the mesh by moving the active handle group, without the mouse:
-    the scripted twin of Dualform Drag (same session, solve and result)"""
+    """Deform the mesh by moving the active handle group by the numbers
+    typed: the twin of Dualform Drag (same session, solve and result)"""
 
     bl_idname = "dualform.deform"
     bl_label = "Dualform Deform"
-    bl_options = {"REGISTER", "UNDO"}
+    bl_options = {"REGISTER"}
 
-    translate: FloatVectorProperty(name="Translate", size=3, default=(0.0, 0.0, 0.0),
-                                   description="in the object's space")
+    translate: FloatVectorProperty(name="Offset", size=3, default=(0.0, 0.0, 0.0),
+                                   subtype="TRANSLATION", description="in the object's space")
     rotate_axis: FloatVectorProperty(name="Axis", size=3, default=(0.0, 0.0, 1.0))
-    rotate_degrees: FloatProperty(name="Degrees", default=0.0)
+    rotate_degrees: FloatProperty(name="Degrees", default=0.0,
+                                  description="about the handle group's centroid, before the "
+                                              "offset")
     handle: StringProperty(name="Handle", default="",
                            description="handle group to move (empty: the active or last one)")
     keep: EnumProperty(name="Keep", items=KEEP_ITEMS, default="MESH")
+    key_name: StringProperty(name="Shape Key", default=bridge.SHAPE_KEY_NAME,
+                             description="the new shape key's name (keep: Shape Key)")
 
     @classmethod
     def poll(cls, context):
@@ -266,27 +437,30 @@ class DUALFORM_OT_deform(bpy.types.Operator):
 
     def execute(self, context):
         obj = context.active_object
-        in_edit = context.mode == "EDIT_MESH"
-        if in_edit:
-            bpy.ops.object.mode_set(mode="OBJECT")
-        try:
-            drag = bridge.DragEdit(obj, self.handle or _active_handle(obj) or None,
-                                   _library(context) or None)
-            # Double precision, as Blender's mathutils would round to float.
-            drag.move(bridge.motion_matrix(
-                translate=np.array(self.translate, dtype=np.float64),
-                axis=np.array(self.rotate_axis, dtype=np.float64),
-                degrees=self.rotate_degrees, pivot=drag.pivot))
-            drag.wait_and_apply()
-            drag.finish(self.keep)
-        except Exception as error:
-            self.report({"ERROR"}, str(error))
-            return {"CANCELLED"}
-        finally:
-            if in_edit:
-                bpy.ops.object.mode_set(mode="EDIT")
+        with ObjectModeStep(context, self.bl_label) as step:
+            try:
+                drag = bridge.DragEdit(obj, self.handle or _active_handle(obj) or None,
+                                       _library(context) or None, self.keep, self.key_name)
+            except Exception as error:
+                self.report({"ERROR"}, str(error))
+                return {"CANCELLED"}
+            try:
+                # Double precision, as Blender's mathutils would round to float.
+                drag.move(bridge.motion_matrix(
+                    translate=np.array(self.translate, dtype=np.float64),
+                    axis=np.array(self.rotate_axis, dtype=np.float64),
+                    degrees=self.rotate_degrees, pivot=drag.pivot))
+                drag.wait_and_apply()
+            except Exception as error:
+                drag.cancel()
+                self.report({"ERROR"}, str(error))
+                return {"CANCELLED"}
+            self.report({"INFO"}, _kept_text(drag))
+            drag.finish()
+            step.finished = True
         return {"FINISHED"}
 
 
-CLASSES = (DUALFORM_OT_water_fill_roi, DUALFORM_OT_add_handle, DUALFORM_OT_drag,
+CLASSES = (DUALFORM_OT_water_fill_roi, DUALFORM_OT_grow_roi, DUALFORM_OT_group_as_roi,
+           DUALFORM_OT_add_handle, DUALFORM_OT_group_as_handle, DUALFORM_OT_drag,
            DUALFORM_OT_deform)

@@ -1,9 +1,12 @@
-"""The sidebar panel (3D view, N, tab 'Dualform') and the preferences."""
+"""The sidebar panel (3D view, N, tab 'Dualform'), the numbers it keeps
+per scene, and the preferences."""
 
 import bpy
-from bpy.props import StringProperty
+from bpy.props import (EnumProperty, FloatProperty, FloatVectorProperty, IntProperty,
+                       PointerProperty, StringProperty)
 
 from . import bridge
+from .operators import KEEP_ITEMS
 
 
 class DualformPreferences(bpy.types.AddonPreferences):
@@ -24,6 +27,24 @@ class DualformPreferences(bpy.types.AddonPreferences):
         self.layout.label(text="Changes to the package folder take effect after a restart.")
 
 
+class DualformSettings(bpy.types.PropertyGroup):
+    """What the panel's buttons use: the typed motion, how to keep it, the
+    ROI's growth step."""
+
+    translate: FloatVectorProperty(name="Offset", size=3, subtype="TRANSLATION",
+                                   description="the handle group's offset, in the object's space")
+    rotate_axis: FloatVectorProperty(name="Axis", size=3, default=(0.0, 0.0, 1.0),
+                                     subtype="XYZ")
+    rotate_degrees: FloatProperty(name="Degrees", default=0.0,
+                                  description="about the handle group's centroid, before the "
+                                              "offset")
+    keep: EnumProperty(name="Keep", items=KEEP_ITEMS, default="SHAPE_KEY")
+    key_name: StringProperty(name="Shape Key", default=bridge.SHAPE_KEY_NAME,
+                             description="the new shape key's name")
+    rings: IntProperty(name="Rings", default=1, min=1, max=100,
+                       description="edge rings to grow or shrink the ROI by")
+
+
 class VIEW3D_PT_dualform(bpy.types.Panel):
     bl_label = "Dualform"
     bl_space_type = "VIEW_3D"
@@ -33,23 +54,45 @@ class VIEW3D_PT_dualform(bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         obj = context.active_object
+        settings = context.scene.dualform
         col = layout.column(align=True)
         col.label(text="1. Select the tip, then the end")
         col.operator("dualform.water_fill_roi", icon="MOD_FLUIDSIM")
+        row = col.row(align=True)
+        row.operator("dualform.grow_roi", text="Grow", icon="ADD").rings = settings.rings
+        row.operator("dualform.grow_roi", text="Shrink", icon="REMOVE").rings = -settings.rings
+        row.prop(settings, "rings", text="")
+        col.operator("dualform.group_as_roi", icon="GROUP_VERTEX")
+        col.separator()
         col.label(text="2. Select the handle's vertices")
         col.operator("dualform.add_handle", icon="EMPTY_ARROWS")
+        col.operator("dualform.group_as_handle", icon="GROUP_VERTEX")
         col.separator()
-        col.label(text="3. Drag: G move, R rotate")
-        col.operator("dualform.drag", text="Drag into Mesh", icon="VIEW_PAN").keep = "MESH"
-        col.operator("dualform.drag", text="Drag as Shape Key",
-                     icon="SHAPEKEY_DATA").keep = "SHAPE_KEY"
+        col.label(text="3. Move the active handle")
+        col.row(align=True).prop(settings, "keep", expand=True)
+        if settings.keep == "SHAPE_KEY":
+            col.prop(settings, "key_name", text="Key")
+        col.prop(settings, "translate")
+        col.prop(settings, "rotate_axis")
+        col.prop(settings, "rotate_degrees")
+        deform = col.operator("dualform.deform", text="Deform", icon="CHECKMARK")
+        deform.translate = settings.translate
+        deform.rotate_axis = settings.rotate_axis
+        deform.rotate_degrees = settings.rotate_degrees
+        deform.keep = settings.keep
+        deform.key_name = settings.key_name
+        drag = col.operator("dualform.drag", text="Drag (G move, R rotate)", icon="VIEW_PAN")
+        drag.keep = settings.keep
+        drag.key_name = settings.key_name
         if obj is None or obj.type != "MESH":
             return
         box = layout.box()
         if "dualform_roi_count" in obj:
-            box.label(text=f"ROI: {obj['dualform_roi_count']} vertices, "
-                           f"{obj['dualform_roi_loops']} cut loop(s)")
-            if obj["dualform_roi_suspect"]:
+            text = f"ROI: {obj['dualform_roi_count']} vertices"
+            if "dualform_roi_loops" in obj:
+                text += f", {obj['dualform_roi_loops']} cut loop(s)"
+            box.label(text=text)
+            if obj.get("dualform_roi_suspect"):
                 box.label(text="Suspect: most likely leaked past the limb", icon="ERROR")
         else:
             box.label(text="ROI: none yet")
@@ -60,4 +103,12 @@ class VIEW3D_PT_dualform(bpy.types.Panel):
             box.label(text=f"Moves: {active.name}")
 
 
-CLASSES = (DualformPreferences, VIEW3D_PT_dualform)
+CLASSES = (DualformPreferences, DualformSettings, VIEW3D_PT_dualform)
+
+
+def register_settings() -> None:
+    bpy.types.Scene.dualform = PointerProperty(type=DualformSettings)
+
+
+def unregister_settings() -> None:
+    del bpy.types.Scene.dualform

@@ -330,8 +330,10 @@ typedef struct dfm_mesh_desc {
 
 /* Copies a mesh from host arrays. Errors: NULL arguments, no vertices or
  * triangles, an index out of range (the message names triangle and corner),
- * a non-finite position (names the vertex), a triangle repeating a vertex.
- * *out is owned by the caller. Thread-safe. */
+ * a non-finite position (names the vertex). A triangle repeating a vertex is
+ * dropped with a DFM_LOG_ID_LOAD_WARNING, as the file loaders drop it; the
+ * mesh's triangles (dfm_mesh_read_indices, dfm_hit.face) are then the kept
+ * ones, in order. *out is owned by the caller. Thread-safe. */
 DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_mesh_desc* desc, dfm_mesh** out);
 
 /* Loads an OFF, OBJ, PLY or glTF 2.0 file (.gltf with embedded or external
@@ -626,12 +628,13 @@ DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_session_desc* de
 DFM_API void dfm_session_destroy(dfm_session* session);
 
 /* Stages group `group`'s transform: a column-major 4x4 affine matrix applied
- * to the group's rest positions (translation in elements 12..14). Takes
- * effect at the next submit or solve. Never blocks on a solve.
- * DFM_ERROR_OUT_OF_RANGE for a group past the last; DFM_ERROR_NUMERICAL for
- * a matrix element that is not finite, or a finite matrix that takes a
- * handle's target beyond the finite numbers (the message names the group
- * and vertex); nothing is staged then. */
+ * to the group's rest positions (translation in elements 12..14; the bottom
+ * row, elements 3, 7, 11 and 15, must be 0 0 0 1: DFM_ERROR_INVALID_ARGUMENT
+ * otherwise). Takes effect at the next submit or solve. Never blocks on a
+ * solve. DFM_ERROR_OUT_OF_RANGE for a group past the last;
+ * DFM_ERROR_NUMERICAL for a matrix element that is not finite, or a finite
+ * matrix that takes a handle's target beyond the finite numbers (the
+ * message names the group and vertex); nothing is staged then. */
 DFM_API dfm_result dfm_session_set_group_transform(dfm_session* session, uint32_t group,
                                                    const double matrix[16]);
 
@@ -852,6 +855,8 @@ typedef struct dfm_quality {
     double max_fixed_move;         /* largest move of a vertex outside the ROI; always 0 */
     double dual_magnitude_error;   /* mean | |l_f| - |h_f| | over ROI faces / mean |h_f| */
     size_t flipped_faces;          /* faces with a ROI vertex whose normal turned over 90 deg */
+    size_t creased_edges;          /* edges between ROI vertices whose dihedral angle turned
+                                      over 90 deg: a fold's creases, blind to rigid motion */
 } dfm_quality;
 
 /* Measures the newest frame against the rest pose and the targets staged

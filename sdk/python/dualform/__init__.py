@@ -10,7 +10,7 @@ from ._native import LIBRARY_VARIABLE, library_candidates, load_library
 from .context import Context, CountingAllocator, default_models_directory
 from .errors import (BusyError, CancelledError, DeviceError, DualformError, InternalError,
                      InvalidArgumentError, InvalidHandleError, IOFailedError, NotFoundError,
-                     NumericalError, OutOfMemoryError, OutOfRangeError, ParseError,
+                     NumericalError, OutOfMemoryError, OutOfRangeError, ParseError, Result,
                      UnsupportedError, result_name)
 from .mesh import Mesh, Roi
 from .session import FrameView, Session, frame_checksum
@@ -33,7 +33,7 @@ __all__ = [
     "InvalidArgumentError", "InvalidHandleError", "LIBRARY_VARIABLE", "LoadReport", "LogId",
     "LogLevel", "Mesh", "MeshInfo", "MeshMemory", "MeshSummary", "Method", "NotFoundError",
     "NumericalError", "OutOfMemoryError", "OutOfRangeError", "ParseError", "PlyEncoding",
-    "Preconditioner", "Quality", "Roi", "Session", "SessionMemory", "SolveReport",
+    "Preconditioner", "Quality", "Result", "Roi", "Session", "SessionMemory", "SolveReport",
     "UnsupportedError", "WaterFillDiagnosis", "scenario", "default_models_directory", "frame_checksum",
     "library_candidates", "library_version", "load_library", "result_name",
 ]

@@ -4,6 +4,7 @@ where the array's layout allows."""
 from __future__ import annotations
 
 import ctypes
+import operator
 from typing import Optional
 
 import numpy as np
@@ -76,3 +77,21 @@ def index_array(values, name: str, columns: Optional[int] = None) -> np.ndarray:
 
 def uint32_pointer(array: np.ndarray):
     return array.ctypes.data_as(ctypes.POINTER(ctypes.c_uint32))
+
+
+#: The largest vertex index: 2**32 - 1 is the library's "no vertex".
+MAX_VERTEX = 0xFFFFFFFE
+
+
+def unsigned(value, name: str, limit: int = 0xFFFFFFFFFFFFFFFF, what: str = "an integer") -> int:
+    """An integer argument of an unsigned C parameter, checked here: ctypes
+    would turn -1 into 2**32 - 1."""
+    v = operator.index(value)
+    if not 0 <= v <= limit:
+        raise ValueError(f"{name}: expected {what} from 0 to {limit}, found {v}")
+    return v
+
+
+def vertex_index(value, name: str) -> int:
+    """A vertex index argument (0 to 2**32 - 2)."""
+    return unsigned(value, name, MAX_VERTEX, "a vertex index, an integer")

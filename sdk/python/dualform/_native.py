@@ -219,6 +219,7 @@ class Quality(Structure):
         ("max_fixed_move", c_double),
         ("dual_magnitude_error", c_double),
         ("flipped_faces", c_size_t),
+        ("creased_edges", c_size_t),
     ]
 
 
@@ -398,8 +399,12 @@ def load_library(path: Optional[str] = None) -> ctypes.CDLL:
                 continue
             _lib = library
             return library
-        raise OSError("libdualform not found; set " + LIBRARY_VARIABLE
-                      + " to its path. Tried:\n  " + "\n  ".join(errors))
+        raise OSError(
+            "libdualform not found. This package does not bundle the library: set "
+            + LIBRARY_VARIABLE + " to its path (the file a build made, e.g. export "
+            + LIBRARY_VARIABLE + "=/path/to/dualform/build/release/sdk/libdualform.so), "
+            "or call dualform.load_library(PATH) before any other call (docs/python.md, "
+            "'How the library is found'). Tried:\n  " + "\n  ".join(errors))
 
 
 def library_candidates() -> list[str]:

@@ -3,37 +3,56 @@ subclass named after its ``dfm_result``, with the library's message."""
 
 from __future__ import annotations
 
-from typing import Dict, Type
+import enum
+from typing import Dict, Type, Union
 
 from . import _native
 
-RESULT_NAMES = (
-    "DFM_OK",
-    "DFM_ERROR_INVALID_ARGUMENT",
-    "DFM_ERROR_NOT_FOUND",
-    "DFM_ERROR_IO",
-    "DFM_ERROR_PARSE",
-    "DFM_ERROR_OUT_OF_RANGE",
-    "DFM_ERROR_UNSUPPORTED",
-    "DFM_ERROR_OUT_OF_MEMORY",
-    "DFM_ERROR_NUMERICAL",
-    "DFM_ERROR_INVALID_HANDLE",
-    "DFM_ERROR_BUSY",
-    "DFM_ERROR_DEVICE",
-    "DFM_ERROR_CANCELLED",
-    "DFM_ERROR_INTERNAL",
-)
+
+class Result(enum.IntEnum):
+    """dfm_result: what a call, or a frame (``FrameInfo.status``), came to.
+    ``str(Result.ERROR_NUMERICAL)`` is the C name, "DFM_ERROR_NUMERICAL"."""
+
+    OK = 0
+    ERROR_INVALID_ARGUMENT = 1
+    ERROR_NOT_FOUND = 2
+    ERROR_IO = 3
+    ERROR_PARSE = 4
+    ERROR_OUT_OF_RANGE = 5
+    ERROR_UNSUPPORTED = 6
+    ERROR_OUT_OF_MEMORY = 7
+    ERROR_NUMERICAL = 8
+    ERROR_INVALID_HANDLE = 9
+    ERROR_BUSY = 10
+    ERROR_DEVICE = 11
+    ERROR_CANCELLED = 12
+    ERROR_INTERNAL = 13
+
+    def __str__(self) -> str:
+        return "DFM_" + self.name
+
+
+def as_result(code: int) -> Union[Result, int]:
+    """``code`` as a :class:`Result`; a code this package does not know (a
+    newer library's) stays a plain int."""
+    try:
+        return Result(code)
+    except ValueError:
+        return code
 
 
 class DualformError(Exception):
-    """A failing dfm_ call. ``result`` is the dfm_result code, ``name`` its
-    name ("DFM_ERROR_PARSE") and ``message`` dfm_last_error_message()."""
+    """A failing dfm_ call. ``result`` is the dfm_result (a :class:`Result`),
+    ``name`` its C name ("DFM_ERROR_PARSE") and ``message``
+    dfm_last_error_message(). For a solve that failed on the session's
+    worker (``Session.wait``), ``frame`` is the frame's ``FrameInfo``."""
 
-    result: int = -1
+    result: Union[Result, int] = -1
+    frame = None
 
     def __init__(self, result: int, name: str, message: str) -> None:
         super().__init__(f"{name}: {message}")
-        self.result = result
+        self.result = as_result(result)
         self.name = name
         self.message = message
 
@@ -106,7 +125,7 @@ _BY_CODE: Dict[int, Type[DualformError]] = {
     13: InternalError,
 }
 for _code, _cls in _BY_CODE.items():
-    _cls.result = _code
+    _cls.result = Result(_code)
 
 
 def result_name(result: int) -> str:

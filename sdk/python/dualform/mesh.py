@@ -31,6 +31,7 @@ class Mesh(Handle):
 
     def __init__(self, context: Context, pointer: int) -> None:
         self.context = context
+        self._info: Optional[MeshInfo] = None
         super().__init__(pointer, _native.lib().dfm_mesh_destroy, *context.keep_alive)
 
     # -------------------------------------------------------------- making
@@ -44,7 +45,9 @@ class Mesh(Handle):
         vertex into one surface vertex: 0 for copies at equal positions, a
         positive fraction of the bounding-box diagonal for copies that close;
         None keeps every vertex apart. The arrays' numbering stays the
-        caller's (docs/gltf.md)."""
+        caller's (docs/gltf.md). A triangle that repeats a vertex is dropped
+        with a load warning (the context's log), as the file loaders drop
+        it; ``triangles()`` then lists the kept ones."""
         pos_in, _kept = _arrays.vec3_input(positions, "positions")
         tri = _arrays.index_array(triangles, "triangles", columns=3)
         desc = _native.MeshDesc()
@@ -80,6 +83,7 @@ class Mesh(Handle):
         """A new mesh: ``steps`` (1-3) rounds of Loop subdivision; coarse
         vertices keep their indices."""
         out = _out_handle()
+        steps = _arrays.unsigned(steps, "steps", 0xFFFFFFFF)
         check(_native.lib().dfm_mesh_subdivide(self.pointer, steps, ctypes.byref(out)))
         return Mesh(self.context, out.value)
 
@@ -105,9 +109,22 @@ class Mesh(Handle):
 
     @property
     def info(self) -> MeshInfo:
-        out = _native.MeshInfo()
-        check(_native.lib().dfm_mesh_get_info(self.pointer, ctypes.byref(out)))
-        return from_struct(MeshInfo, out)
+        """The mesh's figures. The first read computes them (the topology's
+        components and boundary: milliseconds on a large mesh); later reads
+        return that result until this package changes the rest pose
+        (``set_positions``, a session's ``bake``, ``undo_bake``,
+        ``redo_bake``)."""
+        pointer = self.pointer  # a closed mesh raises, kept figures or not
+        info = self._info
+        if info is None:
+            out = _native.MeshInfo()
+            check(_native.lib().dfm_mesh_get_info(pointer, ctypes.byref(out)))
+            info = self._info = from_struct(MeshInfo, out)
+        return info
+
+    def forget_info(self) -> None:
+        """Drops the kept :attr:`info`: the next read asks the library again."""
+        self._info = None
 
     @property
     def vertex_count(self) -> int:
@@ -163,12 +180,15 @@ class Mesh(Handle):
         """Replaces the rest pose (an undoable step); earlier sessions can no
         longer bake."""
         v, _kept = _arrays.vec3_input(positions)
+        self.forget_info()
         check(_native.lib().dfm_mesh_set_positions(self.pointer, ctypes.byref(v)))
 
     def undo_bake(self) -> None:
+        self.forget_info()
         check(_native.lib().dfm_mesh_undo_bake(self.pointer))
 
     def redo_bake(self) -> None:
+        self.forget_info()
         check(_native.lib().dfm_mesh_redo_bake(self.pointer))
 
     # -------------------------------------------------------------- picking
@@ -195,8 +215,9 @@ class Mesh(Handle):
         through ``last``; the ROI's ``diagnosis`` says whether it is suspect."""
         out = _out_handle()
         d = _native.WaterFillDiagnosis()
-        check(_native.lib().dfm_roi_water_fill(self.pointer, first, last, ctypes.byref(out),
-                                               ctypes.byref(d)))
+        check(_native.lib().dfm_roi_water_fill(self.pointer, _arrays.vertex_index(first, "first"),
+                                               _arrays.vertex_index(last, "last"),
+                                               ctypes.byref(out), ctypes.byref(d)))
         return Roi(self, out.value, from_struct(WaterFillDiagnosis, d))
 
     def water_fill_clicks(self, camera: Camera, first_pixel: Sequence[float],
@@ -224,7 +245,8 @@ class Mesh(Handle):
         """Vertices reachable from ``center`` inside the ball of ``radius`` x
         diagonal."""
         out = _out_handle()
-        check(_native.lib().dfm_roi_ball(self.pointer, center, radius, ctypes.byref(out)))
+        check(_native.lib().dfm_roi_ball(self.pointer, _arrays.vertex_index(center, "center"),
+                                         radius, ctypes.byref(out)))
         return Roi(self, out.value)
 
     def roi_all(self) -> "Roi":

@@ -1,81 +1,46 @@
-"""Edit scenarios (docs/scenarios.md) run through the C API, the way the
-``dualform`` tool runs them, so that ``python -m dualform deform`` gives the
-tool's result: the same ROI, the same targets to the last bit (the motion
-is composed in glm's order of operations), one solve on the calling thread.
+"""Edit scenarios (docs/scenarios.md) run through the C API the way the
+``dualform`` tool runs them (tools/dualform/api_edit.cpp, cmd_deform.cpp),
+so that ``python -m dualform deform`` gives the tool's result, report and
+messages: the same ROI, the same targets to the last bit (the motion is
+composed in glm's order of operations), one solve on the calling thread.
 """
 
 from __future__ import annotations
 
-import json
 import math
 import os
+import time
 from dataclasses import dataclass, field
-from pathlib import Path
-from typing import List, Optional, Sequence
+from typing import Callable, List, Optional, Sequence
 
 import numpy as np
 
+from . import _json
 from .context import Context
+from .errors import DualformError, Result
 from .mesh import Mesh, Roi
+from .scenario_format import Ball, HandleSpec, RoiSpec, Scenario, ScenarioError, load_scenario
 from .session import Session
-from .types import Camera, Method
+from .types import Camera, LogId, LogLevel, Method
 
-_TOP = {"mesh", "subdivide", "roi", "handles", "solver", "description", "comment"}
-_HANDLE = {"vertices", "ball", "translate", "rotate", "targets"}
-_SOLVER = {"tolerance", "max_iterations", "handle_weight", "method"}
-
-
-class ScenarioError(ValueError):
-    """A scenario that is malformed or does not fit its mesh; the message
-    names the file and the field."""
+__all__ = ["Edit", "ScenarioError", "SolveError", "load_scenario", "open_mesh", "report_json",
+           "resolve_edit", "run_deform", "select_roi", "write_text_file"]
 
 
-def _known(obj: dict, allowed: set, where: str, source: str) -> None:
-    if not isinstance(obj, dict):
-        raise ScenarioError(f"{source}: {where or 'the scenario'}: expected an object")
-    for key in obj:
-        if key not in allowed:
-            raise ScenarioError(f"{source}: {where + '.' if where else ''}{key}: unknown field "
-                                f"(expected {' or '.join(sorted(allowed))})")
+class SolveError(RuntimeError):
+    """The scenario was fine but its solve failed: the tool's exit 1."""
 
 
-@dataclass
-class Scenario:
-    """A parsed scenario file: the JSON document and the folder that
-    relative mesh paths start from."""
-
-    document: dict
-    base_dir: Path
-    source: str
-
-    @classmethod
-    def load(cls, path: os.PathLike) -> "Scenario":
-        p = Path(path)
-        try:
-            document = json.loads(p.read_text())
-        except json.JSONDecodeError as error:
-            raise ScenarioError(f"{p}:{error.lineno}:{error.colno}: {error.msg}") from None
-        _known(document, _TOP, "", str(p))
-        for required in ("mesh", "roi", "handles"):
-            if required not in document:
-                raise ScenarioError(f"{p}: {required}: required field is missing")
-        for i, h in enumerate(document["handles"]):
-            _known(h, _HANDLE, f"handles[{i}]", str(p))
-        _known(document.get("solver", {}), _SOLVER, "solver", str(p))
-        return cls(document, p.parent, str(p))
-
-    @property
-    def mesh_path(self) -> str:
-        written = self.document["mesh"]
-        if written.startswith("model:") or os.path.isabs(written):
-            return written
-        return str(self.base_dir / written)
+def _api(error: DualformError, what: str = "") -> ScenarioError:
+    """A failing call as the tool words it: "what: dfm_...: message"."""
+    return ScenarioError((what + ": " if what else "") + error.message, Result(error.result))
 
 
 @dataclass
 class Edit:
-    """A scenario resolved against its mesh: ROI, handle groups, one target
-    per handle vertex in group order, and the solver's settings."""
+    """A scenario resolved against its mesh: ROI (vertices ascending; the
+    Water-Filling's diagnosis with it), handle groups, one target per handle
+    vertex in group order, and the solver's settings."""
 
     roi: Roi
     groups: List[np.ndarray]
@@ -118,134 +83,254 @@ def _apply(m, points: np.ndarray) -> np.ndarray:
     return out
 
 
-def _group_targets(spec: dict, group: np.ndarray, rest: np.ndarray, diagonal: float) -> np.ndarray:
-    if "targets" in spec:
-        return np.asarray(spec["targets"], dtype=np.float64).reshape(-1, 3)
+# Rotation about the pivot first, then translation.
+def _group_targets(spec: HandleSpec, group: np.ndarray, rest: np.ndarray,
+                   diagonal: float) -> np.ndarray:
+    if spec.targets:
+        return np.asarray(spec.targets, dtype=np.float64).reshape(-1, 3)
     motion = _identity()
-    if "translate" in spec:
-        motion = _translate(motion, [float(t) * diagonal for t in spec["translate"]])
-    if "rotate" in spec:
-        rotate = spec["rotate"]
-        pivot = rotate.get("pivot", "centroid")
-        if pivot == "centroid":
+    if spec.translate is not None:
+        motion = _translate(motion, [t * diagonal for t in spec.translate])
+    if spec.rotate is not None:
+        pivot = spec.rotate.pivot
+        if pivot is None:
             total = [0.0, 0.0, 0.0]
             for v in group:
                 for k in range(3):
                     total[k] += float(rest[v, k])
             pivot = [t / float(len(group)) for t in total]
-        pivot = [float(p) for p in pivot]
         motion = _translate(motion, pivot)
-        motion = _rotate(motion, float(rotate["degrees"]) * math.pi / 180.0,
-                         [float(a) for a in rotate["axis"]])
+        motion = _rotate(motion, spec.rotate.degrees * math.pi / 180.0, spec.rotate.axis)
         motion = _translate(motion, [-p for p in pivot])
     return _apply(motion, rest[group])
 
 
 def open_mesh(scenario: Scenario, context: Context) -> Mesh:
     """The scenario's mesh, loaded and subdivided as it asks."""
-    mesh = Mesh.load(context, scenario.mesh_path)
-    steps = int(scenario.document.get("subdivide", 0))
-    if steps > 0:
+    try:
+        mesh = Mesh.load(context, scenario.mesh_path)
+    except DualformError as error:
+        raise _api(error, "mesh") from None
+    if scenario.subdivide > 0:
         with mesh:
-            return mesh.subdivide(steps)
+            try:
+                return mesh.subdivide(scenario.subdivide)
+            except DualformError as error:
+                raise _api(error, "subdivide") from None
     return mesh
 
 
+def _check_vertex(v: int, mesh: Mesh, what: str) -> None:
+    n = mesh.info.vertex_count
+    if v >= n:
+        raise ScenarioError(f"{what}: vertex {v} is out of range (the mesh has {n} vertices)",
+                            Result.ERROR_OUT_OF_RANGE)
+
+
+def _ball(spec: Ball, mesh: Mesh, what: str) -> Roi:
+    _check_vertex(spec.center, mesh, what + ".ball.center")
+    try:
+        return mesh.roi_ball(spec.center, spec.radius)
+    except DualformError as error:
+        raise _api(error, what) from None
+
+
 def _click_vertex(mesh: Mesh, camera: Camera, pixel: Sequence[float], what: str) -> int:
-    hit = mesh.pick(camera, float(pixel[0]), float(pixel[1]))
+    """The vertex a click picks: the nearest corner of the face it hits."""
+    try:
+        hit = mesh.pick(camera, pixel[0], pixel[1])
+    except DualformError as error:
+        raise _api(error, what) from None
     if hit is None:
-        raise ScenarioError(f"{what}: the click at {list(pixel)} hits nothing")
+        raise ScenarioError(f"{what}: the click at [{_json.number_text(pixel[0])}, "
+                            f"{_json.number_text(pixel[1])}] hits nothing",
+                            Result.ERROR_INVALID_ARGUMENT)
     return hit.vertex
 
 
-def select_roi(spec: dict, mesh: Mesh) -> Roi:
-    """The ROI a scenario's ``roi`` object selects."""
-    (kind, value), = spec.items()
-    if kind == "water_fill":
-        return mesh.water_fill(int(value["first"]), int(value["last"]))
-    if kind == "water_fill_clicks":
-        camera = Camera.from_dict(value["camera"])
-        first = _click_vertex(mesh, camera, value["first"], "roi.water_fill_clicks.first")
-        last = _click_vertex(mesh, camera, value["last"], "roi.water_fill_clicks.last")
-        return mesh.water_fill(first, last)
-    if kind == "ball":
-        return mesh.roi_ball(int(value["center"]), float(value["radius"]))
-    if kind == "vertices":
-        return mesh.roi_from_vertices(value)
-    if kind == "all":
+def select_roi(spec: RoiSpec, mesh: Mesh) -> Roi:
+    """The ROI a scenario's ``roi`` selects; errors name the field."""
+    try:
+        if spec.kind == "water_fill":
+            return mesh.water_fill(spec.first, spec.last)
+        if spec.kind == "water_fill_clicks":
+            what = "roi.water_fill_clicks"
+            c = spec.camera
+            camera = Camera(c.eye, c.target, c.up, c.fov_y_degrees, c.width, c.height)
+            first = _click_vertex(mesh, camera, spec.first_pixel, what + ".first")
+            last = _click_vertex(mesh, camera, spec.last_pixel, what + ".last")
+            try:
+                return mesh.water_fill(first, last)
+            except DualformError as error:
+                raise _api(error, what) from None
+        if spec.kind == "ball":
+            return _ball(spec.ball, mesh, "roi")
+        if spec.kind == "vertices":
+            for v in spec.vertices:
+                _check_vertex(v, mesh, "roi.vertices")
+            try:
+                return mesh.roi_from_vertices(spec.vertices)
+            except DualformError as error:
+                raise _api(error, "roi.vertices") from None
         return mesh.roi_all()
-    raise ScenarioError(f"roi: unknown kind {kind!r}")
+    except DualformError as error:
+        raise _api(error, "roi") from None
 
 
 def resolve_edit(scenario: Scenario, mesh: Mesh) -> Edit:
-    """The scenario's ROI, groups and targets on ``mesh``."""
+    """The scenario's ROI, groups and targets on ``mesh``. A handle vertex
+    may name any seam-split copy; it must lie in the ROI, whose reads give
+    each surface vertex's lowest copy."""
     info = mesh.info
     rest = mesh.positions(np.float64)
-    roi = select_roi(scenario.document["roi"], mesh)
-    inside = roi.vertices()
-    groups, targets = [], []
-    for g, spec in enumerate(scenario.document["handles"]):
-        if "ball" in spec:
-            with mesh.roi_ball(int(spec["ball"]["center"]), float(spec["ball"]["radius"])) as b:
-                group = b.vertices()
-        else:
-            group = np.asarray(spec["vertices"], dtype=np.uint32)
-        outside = np.setdiff1d(group, inside)
-        if outside.size:
-            roi.close()
-            raise ScenarioError(f"handles[{g}]: vertex {outside[0]} is outside the ROI")
-        targets.append(_group_targets(spec, group, rest, info.diagonal))
-        groups.append(group)
+    lowest_copy = mesh.surface_map()
+    roi = select_roi(scenario.roi, mesh)
+    try:
+        inside = roi.vertices()
+        groups, targets = [], []
+        for g, spec in enumerate(scenario.handles):
+            what = f"handles[{g}]"
+            if spec.ball is not None:
+                with _ball(spec.ball, mesh, what) as selected:
+                    group = selected.vertices()
+            else:
+                for v in spec.vertices:
+                    _check_vertex(v, mesh, what + ".vertices")
+                group = np.asarray(spec.vertices, dtype=np.uint32)
+            outside = group[~np.isin(lowest_copy[group], inside)]
+            if outside.size:
+                raise ScenarioError(f"{what}: vertex {outside[0]} is outside the ROI",
+                                    Result.ERROR_INVALID_ARGUMENT)
+            targets.append(_group_targets(spec, group, rest, info.diagonal))
+            groups.append(group)
+    except BaseException:
+        roi.close()
+        raise
     solver = {}
-    s = scenario.document.get("solver", {})
+    s = scenario.solver
     for key in ("tolerance", "max_iterations", "handle_weight"):
-        if key in s:
-            solver[key] = s[key]
-    if "method" in s:
-        solver["method"] = Method.PAPER if s["method"] == "paper" else Method.FITTED_ROTATIONS
+        if getattr(s, key) is not None:
+            solver[key] = getattr(s, key)
+    if s.method is not None:
+        solver["method"] = Method.PAPER if s.method == "paper" else Method.FITTED_ROTATIONS
     return Edit(roi, groups, np.concatenate(targets), solver)
+
+
+def write_text_file(path: os.PathLike, text: str) -> None:
+    """The text and a newline, as the tool writes its report and ROI files."""
+    try:
+        with open(path, "w") as f:
+            f.write(text + "\n")
+    except OSError:
+        raise ScenarioError(f"{os.fspath(path)}: cannot write", Result.ERROR_IO) from None
+
+
+def _quality(quality) -> dict:
+    return {k: getattr(quality, k) for k in (
+        "max_handle_error", "mean_abs_log_edge", "max_abs_log_edge", "mean_normal_change_deg",
+        "max_fixed_move", "dual_magnitude_error", "flipped_faces", "creased_edges")}
+
+
+def _warn_loads(level: LogLevel, log_id: LogId, message: str, warn: Callable[[str], None]) -> None:
+    if level >= LogLevel.WARNING and log_id == LogId.LOAD_WARNING:
+        warn(message)
 
 
 def run_deform(scenario_path: os.PathLike, out_path: os.PathLike, *,
                hard_handles: bool = False, method: Optional[Method] = None,
-               context: Optional[Context] = None) -> dict:
+               morph_target: Optional[str] = None, roi_out: Optional[os.PathLike] = None,
+               warn: Optional[Callable[[str], None]] = None) -> dict:
     """``dualform deform SCENARIO --out MESH``: solves the edit on this
-    thread, writes the deformed mesh and returns the report's main figures."""
-    scenario = Scenario.load(scenario_path)
-    own = context is None
-    ctx = Context() if own else context
-    try:
-        with open_mesh(scenario, ctx) as mesh:
+    thread, writes the deformed mesh (into its own glTF asset when it came
+    from one; with ``morph_target``, as a morph target of that name) and,
+    with ``roi_out``, the ROI's vertices one a line. Returns the tool's
+    report (the same keys, in its order). Bad input raises
+    :class:`ScenarioError`, a failed solve :class:`SolveError`, both with
+    the tool's message; ``warn`` hears each load warning."""
+    source = os.fspath(scenario_path)
+    scenario = load_scenario(source)
+    start = time.perf_counter()
+    log = (lambda *entry: _warn_loads(*entry, warn)) if warn else None
+    with Context(log=log) as ctx, open_mesh(scenario, ctx) as mesh:
+        info = mesh.info
+        load_ms = (time.perf_counter() - start) * 1000.0
+        setup_start = time.perf_counter()
+        try:
             edit = resolve_edit(scenario, mesh)
-            solver = dict(edit.solver, hard_handles=hard_handles)
-            if method is not None:
-                solver["method"] = method
-            with edit.roi, Session(mesh, edit.roi, edit.groups, **solver) as session:
-                session.set_targets(edit.targets)
-                session.solve()
-                quality, solved = session.measure_quality()
-                if solved.status != 0:
-                    raise ScenarioError(f"the solve broke down (status {solved.status})")
-                positions, _ = session.read_positions()
-                with Mesh.from_arrays(ctx, positions, mesh.triangles()) as result:
-                    result.save(out_path)
-                info = mesh.info
-                return {
-                    "mesh": scenario.document["mesh"],
-                    "n_vertices": info.vertex_count,
-                    "n_faces": info.triangle_count,
-                    "n_roi": len(edit.roi),
-                    "n_handles": len(edit.targets),
-                    "n_handle_groups": len(edit.groups),
-                    "method": "paper" if solver.get("method") == Method.PAPER
-                    else "fitted_rotations",
-                    "iterations": solved.iterations,
-                    "converged": solved.converged,
-                    "last_update": solved.last_update,
-                    "solve_ms": solved.solve_ms,
-                    "max_handle_error": quality.max_handle_error,
-                    "flipped_faces": quality.flipped_faces,
-                }
-    finally:
-        if own:
-            ctx.close()
+        except ScenarioError as error:
+            raise ScenarioError(f"{source}: {error}", error.result) from None
+        solver = dict(edit.solver, hard_handles=hard_handles)
+        if method is not None:
+            solver["method"] = method
+        with edit.roi:
+            try:
+                session = Session(mesh, edit.roi, edit.groups, **solver)
+            except DualformError as error:
+                raise ScenarioError(f"{source}: {error.message}", Result(error.result)) from None
+            with session:
+                try:
+                    session.set_targets(edit.targets)
+                except DualformError as error:
+                    raise ScenarioError(f"{source}: {error.message}",
+                                        Result(error.result)) from None
+                setup_ms = (time.perf_counter() - setup_start) * 1000.0
+                try:
+                    session.solve()
+                    quality, solved = session.measure_quality()
+                except DualformError as error:
+                    raise SolveError(error.message) from None
+                if solved.status != Result.OK:
+                    raise SolveError(f"the solve broke down ({solved.status})")
+                try:
+                    report, _ = session.solve_report()
+                    positions, _ = session.read_positions()
+                except DualformError as error:
+                    raise SolveError(error.message) from None
+            try:
+                mesh.set_positions(positions)
+                mesh.save(out_path, morph_target=morph_target)
+            except DualformError as error:
+                raise ScenarioError(error.message, Result(error.result)) from None
+            roi_vertices = edit.roi.vertices()
+        if roi_out is not None:
+            write_text_file(roi_out, "\n".join(map(str, roi_vertices.tolist())))
+        paper = solver.get("method") == Method.PAPER
+        return {
+            "mesh": scenario.mesh,
+            "n_vertices": info.vertex_count,
+            "n_faces": info.triangle_count,
+            "n_roi": len(roi_vertices),
+            "n_handles": len(edit.targets),
+            "n_handle_groups": len(edit.groups),
+            "n_unknowns": report.unknowns,
+            "method": "paper" if paper else "fitted_rotations",
+            "iterations": solved.iterations,
+            "converged": solved.converged,
+            "last_update": solved.last_update,
+            "setup_ms": setup_ms,
+            "solve_ms": solved.solve_ms,
+            "ms_per_iteration": solved.solve_ms / solved.iterations if solved.iterations else 0.0,
+            "krylov_iterations": report.krylov_iterations,
+            "linear_residual": report.linear_residual,
+            "linear_converged": report.linear_converged,
+            "load_ms": load_ms,
+            "quality": _quality(quality),
+        }
+
+
+def report_json(report: dict) -> str:
+    """The report as the tool prints it: one line of compact JSON."""
+    writer = _json.Writer()
+
+    def put(value) -> None:
+        if isinstance(value, dict):
+            writer.begin_object()
+            for k, v in value.items():
+                writer.key(k)
+                put(v)
+            writer.end_object()
+        else:
+            writer.value(value)
+
+    put(report)
+    return writer.text()

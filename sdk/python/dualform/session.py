@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import ctypes
 import contextlib
+import dataclasses
 from typing import Callable, Iterator, Optional, Sequence, Tuple
 
 import numpy as np
 
 from . import _arrays, _native
 from ._handle import Handle
-from .errors import check
+from .errors import Result, as_result, check, error_for
 from .mesh import Mesh, Roi
 from .types import (FrameInfo, Method, Preconditioner, Quality, SessionMemory, SolveReport,
                     from_struct)
@@ -20,7 +21,22 @@ FrameCallback = Callable[["Session", FrameInfo], None]
 
 
 def _info(struct: _native.FrameInfo) -> FrameInfo:
-    return from_struct(FrameInfo, struct)
+    info = from_struct(FrameInfo, struct)
+    return dataclasses.replace(info, status=as_result(info.status))
+
+
+def _raise_if_failed(info: FrameInfo) -> FrameInfo:
+    """``info``, or the error of its status when its solve failed: the
+    frame then holds the last good positions, and the error carries it as
+    ``.frame``."""
+    if info.status == Result.OK:
+        return info
+    error = error_for(int(info.status),
+                      f"generation {info.generation}: the solve failed after {info.iterations} "
+                      f"iterations (last update {info.last_update:g}); the frame keeps the last "
+                      "good positions")
+    error.frame = info
+    raise error
 
 
 def solver_settings(*, tolerance: Optional[float] = None, max_iterations: Optional[int] = None,
@@ -122,7 +138,8 @@ class Session(Handle):
         if m.shape != (4, 4):
             raise ValueError(f"matrix: expected a 4x4 array, found shape {m.shape}")
         column_major = (ctypes.c_double * 16)(*m.T.reshape(-1))
-        check(_native.lib().dfm_session_set_group_transform(self.pointer, group, column_major))
+        check(_native.lib().dfm_session_set_group_transform(
+            self.pointer, _arrays.unsigned(group, "group", 0xFFFFFFFF), column_major))
 
     def set_translation(self, group: int, offset: Sequence[float]) -> None:
         """Stages a pure translation of group ``group``."""
@@ -151,7 +168,9 @@ class Session(Handle):
 
     def solve(self) -> int:
         """Solves the staged targets on this thread (bit for bit the
-        worker's result) and publishes the frame; returns its generation."""
+        worker's result) and publishes the frame; returns its generation. A
+        solve that fails raises (:class:`NumericalError`); its frame, with
+        the last good positions, stays readable (``poll``, ``read_positions``)."""
         g = ctypes.c_uint64()
         check(_native.lib().dfm_session_solve(self.pointer, ctypes.byref(g)))
         return g.value
@@ -165,18 +184,25 @@ class Session(Handle):
         ``known_generation``; never blocks."""
         out = _native.FrameInfo()
         is_new = ctypes.c_bool()
-        check(_native.lib().dfm_session_poll(self.pointer, known_generation, ctypes.byref(out),
-                                             ctypes.byref(is_new)))
+        check(_native.lib().dfm_session_poll(self.pointer,
+                                             _arrays.unsigned(known_generation, "known_generation"),
+                                             ctypes.byref(out), ctypes.byref(is_new)))
         return _info(out), is_new.value
 
-    def wait(self, generation: int = 0, timeout: Optional[float] = None) -> FrameInfo:
+    def wait(self, generation: int = 0, timeout: Optional[float] = None, *,
+             check_status: bool = True) -> FrameInfo:
         """Waits, without holding the GIL, until a finished frame of at least
         ``generation`` is published (0: the set-up's end). ``timeout`` in
-        seconds (None: no limit); a timeout raises :class:`BusyError`."""
+        seconds (None: no limit); a timeout raises :class:`BusyError`. A
+        frame whose solve failed (``status`` not ``Result.OK``) raises its
+        error (:class:`NumericalError`, with the frame as ``.frame``) unless
+        ``check_status=False`` asks for the frame as it is."""
         ms = -1 if timeout is None else int(timeout * 1000)
         out = _native.FrameInfo()
+        generation = _arrays.unsigned(generation, "generation")
         check(_native.lib().dfm_session_wait(self.pointer, generation, ms, ctypes.byref(out)))
-        return _info(out)
+        info = _info(out)
+        return _raise_if_failed(info) if check_status else info
 
     # -------------------------------------------------------------- frames
 
@@ -229,7 +255,9 @@ class Session(Handle):
         if generation is None:
             check(_native.lib().dfm_session_bake(self.pointer))
         else:
-            check(_native.lib().dfm_session_bake_generation(self.pointer, generation))
+            check(_native.lib().dfm_session_bake_generation(
+                self.pointer, _arrays.unsigned(generation, "generation")))
+        self.mesh.forget_info()
 
     def measure_quality(self) -> Tuple[Quality, FrameInfo]:
         """The newest frame's quality figures against the staged targets."""

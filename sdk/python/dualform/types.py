@@ -190,10 +190,12 @@ class WaterFillDiagnosis:
 
 @dataclass(frozen=True)
 class FrameInfo:
-    """dfm_frame_info: what a published frame is."""
+    """dfm_frame_info: what a published frame is. ``status`` is a
+    :class:`Result`: ``Result.ERROR_NUMERICAL`` when the solve broke down
+    (the frame keeps the last good positions)."""
 
     generation: int
-    status: int
+    status: int  # a Result
     converged: bool
     partial: bool
     iterations: int
@@ -214,6 +216,7 @@ class Quality:
     max_fixed_move: float
     dual_magnitude_error: float
     flipped_faces: int
+    creased_edges: int
 
 
 @dataclass(frozen=True)

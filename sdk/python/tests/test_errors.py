@@ -100,3 +100,37 @@ def test_undo_with_nothing_to_undo_is_not_found(cow):
     with pytest.raises(dfm.NotFoundError) as caught:
         cow.undo_bake()
     assert caught.value.message
+
+
+def test_a_negative_index_is_refused_before_the_call(cow):
+    with pytest.raises(ValueError) as caught:
+        cow.water_fill(-1, 681)
+    assert str(caught.value) == ("first: expected a vertex index, an integer from 0 to "
+                                 "4294967294, found -1")
+    with pytest.raises(ValueError, match="center: .* found -5"):
+        cow.roi_ball(-5, 0.1)
+    with pytest.raises(ValueError, match="steps: .* found -1"):
+        cow.subdivide(-1)
+
+
+def test_a_matrix_that_is_not_affine_is_refused(cow):
+    with cow.water_fill(771, 681) as roi, dfm.Session(cow, roi, [[771]]) as session:
+        with pytest.raises(dfm.InvalidArgumentError) as caught:
+            session.set_group_transform(0, np.zeros((4, 4)))
+        assert "bottom row" in caught.value.message and "found 0 0 0 0" in caught.value.message
+        row_major = np.eye(4)
+        row_major[3, :3] = [0.1, 0.0, 0.0]
+        with pytest.raises(dfm.InvalidArgumentError, match="found 0.1 0 0 1"):
+            session.set_group_transform(0, row_major)
+        with pytest.raises(ValueError, match="group: .* found -1"):
+            session.set_group_transform(-1, np.eye(4))
+
+
+def test_results_are_an_enum_named_as_in_c(context):
+    assert dfm.Result.ERROR_NUMERICAL == 8 and str(dfm.Result.ERROR_NUMERICAL) == \
+        "DFM_ERROR_NUMERICAL"
+    assert [str(r) for r in dfm.Result] == [dfm.result_name(int(r)) for r in dfm.Result]
+    with pytest.raises(dfm.NotFoundError) as caught:
+        dfm.Mesh.load(context, "/no/such/mesh.off")
+    assert caught.value.result is dfm.Result.ERROR_NOT_FOUND
+    assert dfm.NumericalError.result is dfm.Result.ERROR_NUMERICAL

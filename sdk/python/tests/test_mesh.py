@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -110,3 +112,38 @@ def test_seam_split_arrays_weld_and_keep_their_numbering(cow, context, tmp_path)
             assert np.array_equal(back.positions(), split.astype(np.float32).astype(np.float64))
     with dfm.Mesh.from_arrays(context, split, corners) as apart:
         assert apart.info.surface_vertex_count == split.shape[0]
+
+
+def test_info_is_read_once_and_again_after_the_rest_pose_changes(cow):
+    first = cow.info
+    assert cow.info is first and cow.vertex_count == first.vertex_count
+    with cow.water_fill(771, 681) as roi, dfm.Session(cow, roi, [[771]]) as s:
+        s.set_translation(0, [0.05, 0.0, 0.0])
+        s.wait(s.submit())
+        s.bake()
+    assert cow.info.bake_count == 1 and cow.info != first
+    cow.undo_bake()
+    assert cow.info.bake_count == 0 and cow.info.redo_count == 1
+    cow.set_positions(cow.positions() * 2.0)
+    assert cow.info.diagonal == pytest.approx(2.0 * first.diagonal)
+    cow.close()
+    with pytest.raises(dfm.InvalidHandleError):
+        cow.info
+
+
+def test_a_triangle_that_repeats_a_vertex_is_dropped_with_a_warning(context):
+    positions, triangles = tetrahedron()
+    triangles = np.vstack([triangles, [[0, 1, 1]]])
+    with dfm.Mesh.from_arrays(context, positions, triangles) as mesh:
+        assert np.array_equal(mesh.triangles(), triangles[:4])
+    assert context.log_messages[-1] == (dfm.LogLevel.WARNING, dfm.LogId.LOAD_WARNING,
+                                        "dfm_mesh_create: triangle 4 repeats a vertex; dropped")
+
+
+def test_a_saved_glb_names_its_mesh_after_the_file(cow, tmp_path):
+    cow.save(tmp_path / "cow-leg.glb")
+    data = (tmp_path / "cow-leg.glb").read_bytes()
+    length = int.from_bytes(data[12:16], "little")
+    document = json.loads(data[20:20 + length])
+    assert document["meshes"][0]["name"] == "cow-leg"
+    assert document["nodes"][0]["name"] == "cow-leg"

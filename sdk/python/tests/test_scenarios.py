@@ -35,7 +35,7 @@ def test_reproduces_the_cli(scenario, cli, context, tmp_path):
     python_out = tmp_path / "python.ply"
     subprocess.run([cli, "deform", str(scenario), "--out", str(tool_out)], check=True,
                    stdout=subprocess.DEVNULL)
-    report = dfm.scenario.run_deform(scenario, python_out, context=context)
+    report = dfm.scenario.run_deform(scenario, python_out)
     expected, diagonal, triangles = _positions(context, tool_out)
     got, _, got_triangles = _positions(context, python_out)
     assert np.array_equal(triangles, got_triangles)

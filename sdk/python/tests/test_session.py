@@ -124,3 +124,25 @@ def test_waiting_releases_the_gil(cow):
         t.join()
         assert preparing_seen > 0
         assert not s.poll()[0].preparing
+
+
+def test_a_failed_solve_raises_unless_the_frame_is_asked_for(leg):
+    cow, roi, hoof = leg
+    with dfm.Session(cow, roi, [hoof]) as s:
+        s.set_translation(0, [1e300, 0.0, 0.0])
+        g = s.submit()
+        with pytest.raises(dfm.NumericalError) as caught:
+            s.wait(g)
+        assert f"generation {g}: the solve failed" in caught.value.message
+        frame = caught.value.frame
+        assert frame.status is dfm.Result.ERROR_NUMERICAL and not frame.converged
+        info = s.wait(g, check_status=False)
+        assert info.status is dfm.Result.ERROR_NUMERICAL and info.generation == g
+        # The frame keeps the last good (here: the rest) positions.
+        positions, read = s.read_positions()
+        assert read.status is dfm.Result.ERROR_NUMERICAL
+        assert np.array_equal(positions, cow.positions())
+        with pytest.raises(dfm.NumericalError):
+            s.solve()
+        s.set_translation(0, [0.01, 0.0, 0.0])
+        assert s.wait(s.submit()).status is dfm.Result.OK
