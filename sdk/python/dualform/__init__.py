@@ -7,7 +7,8 @@ arrays in and out. See docs/python.md.
 """
 
 from ._native import LIBRARY_VARIABLE, library_candidates, load_library
-from .context import Context, CountingAllocator, default_models_directory
+from .batch import deform_batch
+from .context import Context, CountingAllocator, JobQueue, default_models_directory, run_job
 from .errors import (BusyError, CancelledError, DeviceError, DualformError, InternalError,
                      InvalidArgumentError, InvalidHandleError, IOFailedError, NotFoundError,
                      NumericalError, OutOfMemoryError, OutOfRangeError, ParseError, Result,
@@ -17,7 +18,7 @@ from .session import FrameView, Session, frame_checksum
 from . import scenario
 from .types import (Camera, FrameInfo, Hit, LoadReport, LogId, LogLevel, MeshInfo, MeshMemory,
                     MeshSummary, Method, PlyEncoding, Preconditioner, Quality, SessionMemory,
-                    SolveReport, WaterFillDiagnosis)
+                    SolveReport, WaterFillDiagnosis, WorkMode)
 
 __version__ = "0.2.0"
 
@@ -30,10 +31,11 @@ def library_version() -> int:
 __all__ = [
     "BusyError", "Camera", "CancelledError", "Context", "CountingAllocator", "DeviceError",
     "DualformError", "FrameInfo", "FrameView", "Hit", "IOFailedError", "InternalError",
-    "InvalidArgumentError", "InvalidHandleError", "LIBRARY_VARIABLE", "LoadReport", "LogId",
-    "LogLevel", "Mesh", "MeshInfo", "MeshMemory", "MeshSummary", "Method", "NotFoundError",
+    "InvalidArgumentError", "InvalidHandleError", "JobQueue", "LIBRARY_VARIABLE", "LoadReport",
+    "LogId", "LogLevel", "Mesh", "MeshInfo", "MeshMemory", "MeshSummary", "Method", "NotFoundError",
     "NumericalError", "OutOfMemoryError", "OutOfRangeError", "ParseError", "PlyEncoding",
     "Preconditioner", "Quality", "Result", "Roi", "Session", "SessionMemory", "SolveReport",
-    "UnsupportedError", "WaterFillDiagnosis", "scenario", "default_models_directory", "frame_checksum",
-    "library_candidates", "library_version", "load_library", "result_name",
+    "UnsupportedError", "WaterFillDiagnosis", "WorkMode", "default_models_directory",
+    "deform_batch", "frame_checksum", "library_candidates", "library_version", "load_library",
+    "result_name", "run_job", "scenario",
 ]

@@ -63,10 +63,15 @@ class Vec3Output(Structure):
 ALLOC_FN = CFUNCTYPE(c_void_p, c_void_p, c_size_t, c_size_t)
 FREE_FN = CFUNCTYPE(None, c_void_p, c_void_p, c_size_t)
 LOG_FN = CFUNCTYPE(None, c_void_p, c_int, c_int, c_char_p)
+ENQUEUE_FN = CFUNCTYPE(None, c_void_p, c_void_p)
 
 
 class Allocator(Structure):
     _fields_ = [("alloc", ALLOC_FN), ("free", FREE_FN), ("user", c_void_p)]
+
+
+class JobSystem(Structure):
+    _fields_ = [("enqueue", ENQUEUE_FN), ("user", c_void_p)]
 
 
 class ContextDesc(Structure):
@@ -79,6 +84,8 @@ class ContextDesc(Structure):
         ("worker_count", c_uint32),
         ("pick_thread_count", c_uint32),
         ("models_directory", c_char_p),
+        ("work_mode", c_int),
+        ("job_system", JobSystem),
     ]
 
 
@@ -278,6 +285,8 @@ _PROTOTYPES = {
     "dfm_version_compatible": (c_bool, [c_uint32]),
     "dfm_context_create": (_R, [POINTER(ContextDesc), POINTER(_p)]),
     "dfm_context_destroy": (None, [_p]),
+    "dfm_context_step": (_R, [_p, c_uint64, POINTER(c_bool)]),
+    "dfm_job_run": (None, [_p]),
     "dfm_mesh_create": (_R, [_p, POINTER(MeshDesc), POINTER(_p)]),
     "dfm_mesh_load": (_R, [_p, c_char_p, POINTER(_p)]),
     "dfm_mesh_load_with_report": (_R, [_p, c_char_p, POINTER(LoadReport), POINTER(_p)]),

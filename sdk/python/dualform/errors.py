@@ -44,8 +44,8 @@ def as_result(code: int) -> Union[Result, int]:
 class DualformError(Exception):
     """A failing dfm_ call. ``result`` is the dfm_result (a :class:`Result`),
     ``name`` its C name ("DFM_ERROR_PARSE") and ``message``
-    dfm_last_error_message(). For a solve that failed on the session's
-    worker (``Session.wait``), ``frame`` is the frame's ``FrameInfo``."""
+    dfm_last_error_message(). For a solve that failed as the context's
+    work (``Session.wait``), ``frame`` is the frame's ``FrameInfo``."""
 
     result: Union[Result, int] = -1
     frame = None

@@ -1,5 +1,5 @@
 """Edit sessions (dfm_session): staged transforms or targets, asynchronous
-solves on the session's worker, frames back as numpy arrays."""
+solves as the context's work, frames back as numpy arrays."""
 
 from __future__ import annotations
 
@@ -84,10 +84,10 @@ class Session(Handle):
     """dfm_session: one edit of ``mesh`` over ``roi`` with handle ``groups``
     (one sequence of vertex ids per group; group g is transform g).
 
-    Creation returns at once; the set-up runs on the session's worker.
+    Creation returns at once; the set-up is queued as the context's work.
     ``on_frame(session, info)`` (optional) runs on the thread that publishes
-    each frame, with the GIL held: keep it short, and never cancel, solve,
-    bake or close the session from it."""
+    each frame, with the GIL held: keep it short, and never wait, cancel,
+    solve, bake or close the session from it."""
 
     _kind = "session"
 
@@ -160,15 +160,15 @@ class Session(Handle):
     # -------------------------------------------------------------- solving
 
     def submit(self) -> int:
-        """Hands the staged targets to the worker; returns their generation
-        at once (never blocks)."""
+        """Queues the staged targets as the context's work; returns their
+        generation at once (never blocks)."""
         g = ctypes.c_uint64()
         check(_native.lib().dfm_session_submit(self.pointer, ctypes.byref(g)))
         return g.value
 
     def solve(self) -> int:
         """Solves the staged targets on this thread (bit for bit the
-        worker's result) and publishes the frame; returns its generation. A
+        context's work's result) and publishes the frame; returns its generation. A
         solve that fails raises (:class:`NumericalError`); its frame, with
         the last good positions, stays readable (``poll``, ``read_positions``)."""
         g = ctypes.c_uint64()

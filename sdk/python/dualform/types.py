@@ -40,6 +40,14 @@ class PlyEncoding(enum.IntEnum):
     ASCII = 2
 
 
+class WorkMode(enum.IntEnum):
+    """dfm_work_mode: where a context's work runs (docs/python.md, "Work modes")."""
+
+    POOL = 0
+    JOB_SYSTEM = 1
+    HOST_STEPPED = 2
+
+
 class LogLevel(enum.IntEnum):
     DEBUG = 0
     INFO = 1
