@@ -326,7 +326,7 @@ jobs::Task::Outcome AsyncSession::solve_queued(jobs::Clock::time_point deadline)
         // published as the frame's status.
         static_cast<void>(solve_and_publish(run_targets_, generation, &interrupt_, deadline));
         std::lock_guard<std::mutex> solving(solve_mutex_);
-        if (session_->paused()) return Outcome::paused;
+        if (session_ && session_->paused()) return Outcome::paused;
     } catch (const std::bad_alloc&) {
         publish_failure(generation, Errc::out_of_memory);
     } catch (...) {
@@ -365,7 +365,8 @@ Status AsyncSession::solve_and_publish(std::span<const glm::dvec3> targets,
 bool AsyncSession::resume_and_publish(jobs::Clock::time_point deadline, std::uint64_t& generation,
                                       bool& paused) {
     std::lock_guard<std::mutex> solving(solve_mutex_);
-    if (!session_->paused()) return false;
+    // No session: the set-up failed, and no solve ever ran.
+    if (!session_ || !session_->paused()) return false;
     generation = last_solved_;
     static_cast<void>(run_and_publish(generation, &interrupt_, deadline, true));
     paused = session_->paused();
