@@ -4,7 +4,7 @@
 
 // The global operator new of the reliability tests, replaced so a test can
 // make one chosen allocation fail. Arming is per thread: only allocations
-// made by the thread that armed count, so a session's worker and doctest
+// made by the thread that armed count, so the context's workers and doctest
 // itself run undisturbed.
 namespace dfm::test {
 

@@ -4,10 +4,11 @@
 // (default 20000) on the model (default armadillo) with a small handle ball
 // at its centre, then measures, on the host thread:
 //   - dfm_session_create: how long the call takes to return, and how long
-//     the set-up then runs on the session's worker (until dfm_session_wait
+//     the set-up then runs on the context's worker (until dfm_session_wait
 //     for generation 0 returns), over 5 sessions;
-//   - submit alone on a small ROI (about 1000 vertices) whose worker is
-//     idle, asleep for 2 ms before each submit: the cost of waking it; and
+//   - submit alone on a small ROI (about 1000 vertices) whose context's
+//     worker is idle, asleep for 2 ms before each submit: the cost of waking
+//     it; and
 //     the CPU the idle worker uses while it looks for work (other threads'
 //     CPU time over 90 ms with nothing submitted, in percent of one core);
 //   - set_group_transform + submit, submit alone, poll, read_roi_positions
