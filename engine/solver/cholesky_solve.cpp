@@ -87,11 +87,6 @@ void backward_in_order(const CholeskySymbolic& sym, std::span<const double> valu
                            i + 1 < count ? order[i + 1] : no_next);
 }
 
-// Fewer unknowns than this are solved by one thread: below it, waking the
-// others costs more than their share of the work (a camel leg's drag frame
-// took 0.34 ms on two workers against 0.24 on one).
-constexpr std::size_t parallel_solve_minimum = 8192;
-
 }  // namespace
 
 std::size_t SparseCholesky::solve_work_size(std::size_t k, std::size_t threads) const {
@@ -110,7 +105,7 @@ void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::
         for (std::size_t c = 0; c < k; ++c) y[i * k + c] = from[c];
     }
     const std::size_t threads = pool != nullptr ? pool->thread_count() : 1;
-    const bool split = threads > 1 && n >= parallel_solve_minimum &&
+    const bool split = threads > 1 && n >= parallel_minimum &&
                        schedule_.subtrees.size() == threads &&
                        work.size() >= solve_work_size(k, threads);
     if (split) {
