@@ -8,15 +8,15 @@ namespace dfm::render {
 namespace {
 
 // Grows by half again, so a mesh growing a little each frame reallocates rarely.
-RenderStatus ensure(const Gpu& gpu, GpuBuffer& buffer, VkDeviceSize needed,
-                    VkBufferUsageFlags usage, bool host_visible) {
-    if (buffer.handle() != VK_NULL_HANDLE && buffer.size() >= needed) return RenderStatus::ok();
+Status ensure(const Gpu& gpu, GpuBuffer& buffer, VkDeviceSize needed, VkBufferUsageFlags usage,
+              bool host_visible) {
+    if (buffer.handle() != VK_NULL_HANDLE && buffer.size() >= needed) return Status::ok();
     return GpuBuffer::create(gpu, needed + needed / 2, usage, host_visible, buffer);
 }
 
 }  // namespace
 
-RenderStatus FrameUploader::stage(const Gpu& gpu, std::size_t slot_index, const SceneData& scene) {
+Status FrameUploader::stage(const Gpu& gpu, std::size_t slot_index, const SceneData& scene) {
     Slot& slot = slots_[slot_index];
     slot.mesh_bytes = scene.vertex_count() * sizeof(MeshVertex);
     slot.line_bytes = scene.line_vertices().size_bytes();
@@ -25,19 +25,19 @@ RenderStatus FrameUploader::stage(const Gpu& gpu, std::size_t slot_index, const 
     const VkDeviceSize line_size = std::max<VkDeviceSize>(slot.line_bytes, sizeof(LineVertex));
     const VkBufferUsageFlags vertex_usage =
         VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    if (RenderStatus s = ensure(gpu, slot.staging, mesh_size + line_size,
-                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+    if (Status s = ensure(gpu, slot.staging, mesh_size + line_size,
+                          VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
         !s) {
         return s;
     }
-    if (RenderStatus s = ensure(gpu, slot.mesh, mesh_size, vertex_usage, false); !s) return s;
-    if (RenderStatus s = ensure(gpu, slot.lines, line_size, vertex_usage, false); !s) return s;
+    if (Status s = ensure(gpu, slot.mesh, mesh_size, vertex_usage, false); !s) return s;
+    if (Status s = ensure(gpu, slot.lines, line_size, vertex_usage, false); !s) return s;
     auto* staging = static_cast<unsigned char*>(slot.staging.mapped());
     scene.pack_vertices(reinterpret_cast<MeshVertex*>(staging));
     if (slot.line_bytes > 0) {
         std::memcpy(staging + slot.mesh_bytes, scene.line_vertices().data(), slot.line_bytes);
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 void FrameUploader::record_copy(VkCommandBuffer cmd, std::size_t slot_index) const {

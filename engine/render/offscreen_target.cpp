@@ -12,46 +12,44 @@ constexpr VkPipelineStageFlags attachment_stages = VK_PIPELINE_STAGE_COLOR_ATTAC
 
 }  // namespace
 
-RenderStatus OffscreenTarget::create(const Gpu& gpu, const AttachmentFormats& formats,
-                                     VkExtent2D extent, OffscreenTarget& out) {
+Status OffscreenTarget::create(const Gpu& gpu, const AttachmentFormats& formats, VkExtent2D extent,
+                               OffscreenTarget& out) {
     OffscreenTarget made;
     made.extent_ = extent;
     made.multisampled_ = formats.samples != VK_SAMPLE_COUNT_1_BIT;
     const VkImageUsageFlags picture_usage =
         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     if (made.multisampled_) {
-        if (RenderStatus s = GpuImage::create(
+        if (Status s = GpuImage::create(
                 gpu, extent, formats.color, formats.samples,
                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
                 VK_IMAGE_ASPECT_COLOR_BIT, made.color_);
             !s) {
             return s;
         }
-        if (RenderStatus s =
-                GpuImage::create(gpu, extent, formats.color, VK_SAMPLE_COUNT_1_BIT, picture_usage,
-                                 VK_IMAGE_ASPECT_COLOR_BIT, made.resolve_);
+        if (Status s = GpuImage::create(gpu, extent, formats.color, VK_SAMPLE_COUNT_1_BIT,
+                                        picture_usage, VK_IMAGE_ASPECT_COLOR_BIT, made.resolve_);
             !s) {
             return s;
         }
-    } else if (RenderStatus s =
-                   GpuImage::create(gpu, extent, formats.color, VK_SAMPLE_COUNT_1_BIT,
-                                    picture_usage, VK_IMAGE_ASPECT_COLOR_BIT, made.color_);
+    } else if (Status s = GpuImage::create(gpu, extent, formats.color, VK_SAMPLE_COUNT_1_BIT,
+                                           picture_usage, VK_IMAGE_ASPECT_COLOR_BIT, made.color_);
                !s) {
         return s;
     }
-    if (RenderStatus s = GpuImage::create(gpu, extent, formats.depth, formats.samples,
-                                          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                                          VK_IMAGE_ASPECT_DEPTH_BIT, made.depth_);
+    if (Status s = GpuImage::create(gpu, extent, formats.depth, formats.samples,
+                                    VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                                    VK_IMAGE_ASPECT_DEPTH_BIT, made.depth_);
         !s) {
         return s;
     }
-    if (RenderStatus s = GpuBuffer::create(gpu, VkDeviceSize{extent.width} * extent.height * 4,
-                                           VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, made.readback_);
+    if (Status s = GpuBuffer::create(gpu, VkDeviceSize{extent.width} * extent.height * 4,
+                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, made.readback_);
         !s) {
         return s;
     }
     out = std::move(made);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 void OffscreenTarget::record_begin(VkCommandBuffer cmd, const float background[4]) const {
