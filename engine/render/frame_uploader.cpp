@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "render/attachment_commands.hpp"
+
 namespace dfm::render {
 
 namespace {
@@ -50,12 +52,8 @@ void FrameUploader::record_copy(VkCommandBuffer cmd, std::size_t slot_index) con
         const VkBufferCopy region{slot.mesh_bytes, 0, slot.line_bytes};
         vkCmdCopyBuffer(cmd, slot.staging.handle(), slot.lines.handle(), 1, &region);
     }
-    VkMemoryBarrier barrier{};
-    barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, 0,
-                         1, &barrier, 0, nullptr, 0, nullptr);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT);
 }
 
 }  // namespace dfm::render
