@@ -157,18 +157,32 @@ const char* preconditioner_name(dfm_preconditioner p) {
 // dfm_solver_settings.tolerance's default, for the report of a scenario that sets none.
 constexpr double default_tolerance = 1e-5;
 
-ToolStatus bench_scenario(const std::string& path, int repeat, const Overrides& overrides,
-                          json::JsonWriter& json) {
+// A scenario as the bench runs it: the document, its mesh and its edit with
+// the command line's overrides.
+struct BenchInput {
     Scenario scenario;
-    if (ToolStatus s = load_scenario(path, scenario); !s) return s;
     ScenarioMesh mesh;
-    if (ToolStatus s = open_scenario_mesh(scenario, mesh, overrides.workers); !s) return s;
     ScenarioEdit edit;
-    if (ToolStatus s = resolve_scenario_edit(scenario, mesh, edit); !s)
+};
+
+// The input side: what fails here is bad input.
+ToolStatus read_bench_input(const std::string& path, const Overrides& overrides, BenchInput& in) {
+    if (ToolStatus s = load_scenario(path, in.scenario); !s) return s;
+    if (ToolStatus s = open_scenario_mesh(in.scenario, in.mesh, overrides.workers); !s) return s;
+    if (ToolStatus s = resolve_scenario_edit(in.scenario, in.mesh, in.edit); !s)
         return ToolStatus(s.code(), path + ": " + s.message());
-    if (overrides.preconditioner) edit.solver.preconditioner = *overrides.preconditioner;
-    edit.solver.disable_prediction = !overrides.predict_frames;
-    if (overrides.tolerance) edit.solver.tolerance = *overrides.tolerance;
+    if (overrides.preconditioner) in.edit.solver.preconditioner = *overrides.preconditioner;
+    in.edit.solver.disable_prediction = !overrides.predict_frames;
+    if (overrides.tolerance) in.edit.solver.tolerance = *overrides.tolerance;
+    return ToolStatus::ok();
+}
+
+// The work: set-ups, solves from rest and the drag, timed, into `json`.
+ToolStatus bench_scenario(const std::string& path, const BenchInput& in, int repeat,
+                          const Overrides& overrides, json::JsonWriter& json) {
+    const Scenario& scenario = in.scenario;
+    const ScenarioMesh& mesh = in.mesh;
+    const ScenarioEdit& edit = in.edit;
 
     std::vector<double> setup, solve, per_iteration;
     SetupParts setup_parts;
@@ -384,16 +398,19 @@ int run_bench(std::span<const std::string_view> args) {
     json.end_object();
     json.key("results").begin_array();
     for (const std::string& path : scenarios) {
-        if (ToolStatus s = bench_scenario(path, repeat, overrides, json); !s)
+        BenchInput input;
+        if (ToolStatus s = read_bench_input(path, overrides, input); !s) {
             return bad_input(s.message());
+        }
+        if (ToolStatus s = bench_scenario(path, input, repeat, overrides, json); !s)
+            return work_failure(s);
         std::fprintf(stderr, "bench: %s done\n", path.c_str());
     }
     json.end_array();
     json.end_object();
     std::printf("%s\n", json.str().c_str());
     if (!json_path.empty()) {
-        if (ToolStatus s = write_text_file(json_path, json.str()); !s)
-            return bad_input(s.message());
+        if (ToolStatus s = write_text_file(json_path, json.str()); !s) return work_failure(s);
     }
     return exit_ok;
 }

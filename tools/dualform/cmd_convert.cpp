@@ -48,7 +48,7 @@ int run_convert(std::span<const std::string_view> args) {
     const MeshPtr mesh(handle);
     if (ToolStatus s = api_status(dfm_mesh_save_with_options(mesh.get(), out.c_str(), &options));
         !s) {
-        return bad_input(s.message());
+        return work_failure(s);
     }
     return exit_ok;
 }

@@ -101,39 +101,35 @@ int run_deform(std::span<const std::string_view> args) {
     if (method) edit.solver.method = *method;
     SessionPtr session;
     if (ToolStatus s = start_session(mesh, edit, session); !s) {
-        return bad_input(scenario_path + ": " + s.message());
+        return work_failure(ToolStatus(s.code(), scenario_path + ": " + s.message()));
     }
     const double setup_ms = ms_since(setup_start);
 
     // Solved on this thread: the result is bit for bit the worker's.
     dfm_frame_info solved = {};
     if (ToolStatus s = api_status(dfm_session_solve(session.get(), nullptr)); !s) {
-        std::fprintf(stderr, "error: %s\n", s.message().c_str());
-        return exit_failed;
+        return failed(s.message());
     }
     dfm_quality quality = {};
     if (ToolStatus s = api_status(dfm_session_measure_quality(session.get(), &quality, &solved));
         !s) {
-        std::fprintf(stderr, "error: %s\n", s.message().c_str());
-        return exit_failed;
+        return failed(s.message());
     }
     if (solved.status != DFM_OK) {
-        std::fprintf(stderr, "error: the solve broke down (%s)\n", dfm_result_name(solved.status));
-        return exit_failed;
+        return failed(std::string("the solve broke down (") + dfm_result_name(solved.status) + ")");
     }
     dfm_solve_report solver = {};
     if (ToolStatus s = api_status(dfm_session_get_solve_report(session.get(), &solver, nullptr));
         !s) {
-        std::fprintf(stderr, "error: %s\n", s.message().c_str());
-        return exit_failed;
+        return failed(s.message());
     }
 
     if (ToolStatus s = save_result(mesh, session.get(), out_path, morph_target); !s) {
-        return bad_input(s.message());
+        return work_failure(s);
     }
     if (!roi_path.empty()) {
         if (ToolStatus s = write_index_lines(roi_path, edit.roi.vertices); !s) {
-            return bad_input(s.message());
+            return work_failure(s);
         }
     }
 
@@ -162,8 +158,7 @@ int run_deform(std::span<const std::string_view> args) {
     json.end_object();
     std::printf("%s\n", json.str().c_str());
     if (!report_path.empty()) {
-        if (ToolStatus s = write_text_file(report_path, json.str()); !s)
-            return bad_input(s.message());
+        if (ToolStatus s = write_text_file(report_path, json.str()); !s) return work_failure(s);
     }
     if (strict && !solved.converged) {
         std::fprintf(stderr,

@@ -34,7 +34,7 @@ int run_roi(std::span<const std::string_view> args) {
     if (ToolStatus s = select_roi(scenario.roi, mesh, roi); !s) {
         return bad_input(scenario_path + ": " + s.message());
     }
-    if (ToolStatus s = write_index_lines(out_path, roi.vertices); !s) return bad_input(s.message());
+    if (ToolStatus s = write_index_lines(out_path, roi.vertices); !s) return work_failure(s);
 
     json::JsonWriter j;
     j.begin_object().field("n_roi", roi.vertices.size());
