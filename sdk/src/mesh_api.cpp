@@ -70,7 +70,9 @@ dfm_result load_mesh_call(const char* fn, dfm_context* context, const char* path
         mesh::Mesh m;
         mesh::HostMesh host;
         mesh::LoadReport load_report;
-        if (Status s = mesh::load_host_mesh(file, m, host, &load_report); !s) {
+        if (Status s =
+                mesh::load_host_mesh(file, m, host, &load_report, c->state->reference_folder);
+            !s) {
             return report(fn, s);
         }
         for (const std::string& warning : load_report.warnings) {

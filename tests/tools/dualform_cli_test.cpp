@@ -579,3 +579,25 @@ TEST_CASE("dualform deform: a glTF mesh by #mesh=, written back and as a morph t
     CHECK(r.exit_code == 2);
     CHECK(r.err.find("a morph target is written only to .gltf or .glb") != std::string::npos);
 }
+
+TEST_CASE("dualform deform: a glTF asset cannot pull a file outside its folder into the output") {
+    dfm::test::GltfBuilder b;
+    b.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1});
+    b.indices_u16({0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3});
+    b.members = R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}])";
+    const auto dir = dfm::test::scratch_dir("cli_gltf_references");
+    std::filesystem::create_directories(dir / "asset");
+    // The "secret" is a valid buffer of the right length, so that only the
+    // rule stops it.
+    dfm::test::write_text(dir / "secret.bin", b.bin());
+    dfm::test::write_text(dir / "asset" / "tet.gltf", b.json("../secret.bin"));
+    dfm::test::write_text(dir / "asset" / "edit.json",
+                          R"({"mesh": "tet.gltf", "roi": {"all": true},
+                              "handles": [{"vertices": [3], "translate": [0, 0, 0.1]}]})");
+    const std::filesystem::path out = dir / "out.gltf";
+    const auto r =
+        dualform({"deform", (dir / "asset" / "edit.json").string(), "--out", out.string()});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("external file URI '../secret.bin' refused") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(out));
+}
