@@ -46,13 +46,10 @@ void pull_updates(const CholeskySymbolic& sym, std::span<const double> values, s
 // below it in memory, and reads each one's values ascending, so the
 // hardware prefetcher, which follows a stream within a page, starts over
 // at many supernodes: the kernel fetches the next one's values (up to this
-// many bytes) while it works on this one (in descending order, the 104k
-// solve 7% faster with the first page fetched at once; four pages spread
-// over the rows took its backward pass from 10.8-11.1 to 9.5-9.7 ms; 64
-// KiB was slower). Children in ascending order (backward_order) take the
-// small supernodes near the leaves mostly upwards, where the prefetcher
-// follows: in the 104k solve those of 1-8 columns 2.6 -> 1.5 ms, wider ones
-// up to 0.5 ms slower, the backward pass 9.2-9.5 -> 8.6-9.3 ms.
+// many bytes, spread over its rows; more was no better) while it works on
+// this one. Children in ascending order (backward_order) take the small
+// supernodes near the leaves mostly upwards, where the prefetcher follows;
+// the narrow supernodes gain more from that than the wide ones lose.
 constexpr std::size_t backward_prefetch_bytes = 16384;
 
 // Lᵀ y = y over one supernode: its rows below, then its diagonal block.

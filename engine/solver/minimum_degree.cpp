@@ -26,8 +26,7 @@ constexpr Index flip(Index j) {
 // Number n is an extra element that collects dense rows, ordered last.
 // Positions and numbers are kept in the signed type Index, 32-bit where
 // the lists fit: the elimination waits on memory, and halving its working
-// set takes a third off its time (79–82 against 113–117 ms at 104k
-// vertices, solver_bench, interleaved).
+// set shortens it accordingly.
 template <class Index>
 class MinimumDegree {
 public:
@@ -375,8 +374,7 @@ private:
     Index n_;
     // A node's (a variable's or an element's) fields side by side: a step
     // reads and writes several of them for the same node, which then share
-    // a cache line where eight arrays took one each (at 104k vertices the
-    // ordering took 75-90 ms with the arrays, 66-70 with the nodes).
+    // a cache line where eight arrays took one each.
     struct Node {
         Index pointer = 0;
         Index length = 0;
