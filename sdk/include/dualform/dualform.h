@@ -194,7 +194,8 @@ typedef struct dfm_context_desc {
     /* Threads each session's solver uses for its set-up, factor, solves
      * and rotation fit, its worker thread included; 0 means 1. Results do
      * not depend on it, bit for bit. Where a core is free, 2 keeps a
-     * 20,000-vertex drag up with a 60 Hz host (docs/benchmarks.md). A
+     * 20,000-vertex drag up with a 60 Hz host (CHANGELOG, Performance;
+     * docs/benchmarks.md measures it with sdk_bench --workers 2). A
      * session starts its worker ("dfm-session") and worker_count - 1
      * solver threads ("dfm-solver"), and stops them when destroyed. */
     uint32_t worker_count;
