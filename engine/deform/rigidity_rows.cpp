@@ -481,10 +481,6 @@ double fit_rows(const FitPass& pass) {
     return fit_rows_plain(pass);
 }
 
-// Fewer rows than this are fitted by one thread: a second one's wake-up
-// would cost more than it saves.
-constexpr std::size_t split_minimum = 8192;
-
 }  // namespace
 
 double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int steps,
@@ -518,7 +514,7 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int st
     const FitPass whole{stencils_,       kept_,     fitted_, heaviest_,
                         cluster_fitted_, positions, steps,   rhs};
     double energy = 0.0;
-    if (pool == nullptr || pool->thread_count() < 2 || count < split_minimum) {
+    if (pool == nullptr || pool->thread_count() < 2 || count < solver::parallel_minimum) {
         energy = fit_rows(whole);
     } else {
         // Two halves side by side: the first adds to rhs as it goes, the

@@ -91,6 +91,7 @@ extern "C" DFM_API dfm_result dfm_context_create(const dfm_context_desc* desc, d
         state->worker_count = d.worker_count == 0 ? 1 : d.worker_count;
         state->pick_thread_count = d.pick_thread_count;
         if (d.models_directory != nullptr) state->models_directory = d.models_directory;
+        if (d.reference_folder != nullptr) state->reference_folder = d.reference_folder;
         *out = host_new<ContextObject>(*state, std::shared_ptr<const ContextState>(state));
         return DFM_OK;
     });

@@ -79,6 +79,7 @@ class ContextDesc(Structure):
         ("worker_count", c_uint32),
         ("pick_thread_count", c_uint32),
         ("models_directory", c_char_p),
+        ("reference_folder", c_char_p),
     ]
 
 
