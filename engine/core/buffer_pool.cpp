@@ -78,7 +78,7 @@ struct Pool {
     // come back fresh. The quarter is room for a set-up's early temporaries
     // beside the blocks its later arrays will want: under the peak itself
     // they are of different classes and cannot all stay, and each miss
-    // pushed out a block that a later request needed (docs/benchmarks.md).
+    // pushed out a block that a later request needed.
     void make_room(std::size_t capacity) {
         const std::size_t peak = std::max(counts.peak_in_use_bytes, counts.in_use_bytes + capacity);
         const std::size_t limit = peak + peak / 4;
@@ -129,11 +129,10 @@ void* fresh_block(std::size_t capacity) {
     return memory;
 }
 
-// The pages a fresh block's request covers, made present in one call. On
-// the test VM a first touch costs 13-18 µs a 4 KiB page; 128 MiB populated
-// and then written took 190-300 ms against 440-560 written page by page,
-// and in huge pages 5-15 ms against 16-230 (docs/benchmarks.md, seventh
-// round of issue 12). Outside the pool's lock, which other threads'
+// The pages a fresh block's request covers, made present in one call: on a
+// virtual machine each first touch of a page is a costly fault, and one
+// call that populates them all costs far less than faulting them one by
+// one as they are written. Outside the pool's lock, which other threads'
 // requests wait on. Only the request's pages: a block's class may be an
 // eighth larger, and that tail may never be used. Advice only: a kernel
 // without MADV_POPULATE_WRITE (before Linux 5.14) leaves the pages to

@@ -7,10 +7,9 @@ namespace dfm::buffer_pool {
 // Large buffers (the factor's values, the stencils, the normal matrix, the
 // analysis's work arrays, Anderson's history) freed by one set-up and kept
 // for the next while an SDK context lives. A page of fresh memory costs a
-// fault, and on a virtual machine a fault can cost ten microseconds: a
-// whole-armadillo set-up takes some 100 MB of fresh pages, which made it
-// three times slower than the same set-up in pages already touched
-// (docs/benchmarks.md). The C library keeps freed memory only below
+// fault, and on a virtual machine a fault is dear: a large set-up's fresh
+// pages can cost more than its arithmetic, so a set-up in pages already
+// touched is several times faster. The C library keeps freed memory only below
 // thresholds that move with what the process did before, so the engine
 // keeps its own.
 //

@@ -56,9 +56,9 @@ using PooledVector = std::vector<T, PooledAllocator<T>>;
 
 // A PooledAllocator under which resize leaves new elements of trivial types
 // unwritten, for arrays that are written whole before they are read: the
-// factor's values (assembled block by block) and Anderson's history. Zeroing
-// the 121 MB of a 104k-vertex factor before the factorization overwrote
-// them took 7–39 ms of the set-up.
+// factor's values (assembled block by block) and Anderson's history, where
+// zeroing a large factor before the factorization overwrites it is a
+// visible share of the set-up.
 template <class T>
 struct UnzeroedPooledAllocator : PooledAllocator<T> {
     UnzeroedPooledAllocator() = default;

@@ -15,6 +15,7 @@ const char* errc_name(Errc code) {
         case Errc::numerical: return "numerical failure";
         case Errc::internal: return "internal error";
         case Errc::cancelled: return "cancelled";
+        case Errc::device: return "device failure";
         case Errc::busy: return "busy";
     }
     return "unknown error";

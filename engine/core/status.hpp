@@ -18,13 +18,15 @@ enum class Errc {
     numerical,
     internal,   // a defect of Dualform's, not of the caller's input
     cancelled,  // stopped by the caller's stop flag before it finished
+    device,     // the graphics device failed (the renderer only)
     busy,       // the object is in use in a way that forbids the call
 };
 
 const char* errc_name(Errc code);
 
-// The outcome of a fallible engine call. The message names what was wrong and
-// where (file, line or byte offset, element), ready to show to a user.
+// The outcome of a fallible engine call, the renderer's included. The message
+// names what was wrong and where (file, line or byte offset, element, Vulkan
+// call), ready to show to a user.
 class Status {
 public:
     Status() = default;

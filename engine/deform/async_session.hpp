@@ -37,8 +37,8 @@ struct Frame {
     // reader that recomputes it knows the frame is whole.
     std::uint64_t checksum = 0;
     // The arrays come from the buffer pool: a session's frames reuse the
-    // pages an earlier session's freed (fresh pages cost the set-up of a
-    // 26k-vertex edit 16-30 ms on the test VM). They are not zeroed when
+    // pages an earlier session's freed (fresh pages are dear in a large
+    // edit's set-up). They are not zeroed when
     // sized: a slot is written whole before it is published, and the
     // set-up sizes five of them.
     UnzeroedPooledVector<glm::dvec3> positions;  // one per AsyncSession::moving() vertex

@@ -15,16 +15,6 @@
 
 namespace dfm::deform {
 
-namespace {
-
-// Fewer unknowns than this are analysed after the assembly on the same
-// thread, as they are factored: waking a second thread for the analysis
-// cost the limbs of issue 12 more than it saved (the elephant's trunk,
-// 5,972 unknowns, took 20.7 ms to set up on two workers, 17.1 on one).
-constexpr std::size_t parallel_analysis_minimum = 8192;
-
-}  // namespace
-
 const char* method_name(DeformMethod m) {
     return m == DeformMethod::paper ? "paper" : "fitted_rotations";
 }
@@ -144,7 +134,7 @@ Status DeformSession::create(const MeshModel& model, std::span<const std::uint32
         // either way, in less time.
         if (settings.pool != nullptr && settings.pool->thread_count() > 1 &&
             settings.preconditioner == solver::PreconditionerKind::cholesky &&
-            u.count() >= parallel_analysis_minimum) {
+            u.count() >= jobs::parallel_minimum) {
             Status analyzed = Status::ok();
             std::array<bool, 2> out_of_memory{};
             settings.pool->run(2, [&](std::size_t task) {

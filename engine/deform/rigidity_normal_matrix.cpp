@@ -15,8 +15,8 @@ namespace {
 
 // Stencils ahead whose coefficients the assembly prefetches: far enough
 // for a stencil just written (out of cache by then, in a large ROI) to
-// arrive before it is read. Four ahead left the 104k assembly waiting on
-// memory (72-75 ms against 61-63; 32 ahead no better).
+// arrive before it is read. Four ahead left a large assembly waiting on
+// memory; 32 ahead was no better than this.
 constexpr std::size_t prefetch_distance = 16;
 
 // Where an unknown sits in a stencil.

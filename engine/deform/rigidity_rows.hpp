@@ -111,8 +111,8 @@ public:
     std::size_t rigidity_rows() const;
     std::size_t memory_bytes() const {
         return capacity_bytes(stencils_, fixed_, kept_, fitted_, deferred_, heaviest_,
-                              cluster_offsets_, cluster_pulls_, cluster_kept_, cluster_fitted_,
-                              cluster_rotations_);
+                              patch_offsets_, patch_pulls_, member_offsets_, members_,
+                              cluster_kept_, cluster_fitted_, cluster_rotations_, cluster_sums_);
     }
 
 private:
@@ -129,25 +129,37 @@ private:
     PooledVector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
     PooledVector<glm::dquat> fitted_;  // per dual row: the last fit
     std::vector<double> deferred_;     // the second half's shares in a two-thread fit
-    // One cluster's rows at vertex `vertex`: H_cv = Σ_f κ_fc G_f,slot(v)
+    // A patch's rows at vertex `vertex`: H_pv = Σ_{f ∈ patch} G_f,slot(v)
     // (build's comment).
-    struct ClusterPull {
+    struct PatchPull {
         std::uint32_t vertex;
         std::uint32_t unknown;  // no_index: a fixed vertex
         glm::dvec3 pulled;
     };
-    std::span<const ClusterPull> cluster_pulls(std::size_t c) const {
-        return std::span(cluster_pulls_)
-            .subspan(cluster_offsets_[c], cluster_offsets_[c + 1] - cluster_offsets_[c]);
+    // A patch's share of a cluster's rotation: θ κ_pc.
+    struct Member {
+        std::uint32_t cluster;
+        double share;
+    };
+    std::span<const PatchPull> patch_pulls(std::size_t p) const {
+        return std::span(patch_pulls_)
+            .subspan(patch_offsets_[p], patch_offsets_[p + 1] - patch_offsets_[p]);
+    }
+    std::span<const Member> patch_members(std::size_t p) const {
+        return std::span(members_).subspan(member_offsets_[p],
+                                           member_offsets_[p + 1] - member_offsets_[p]);
     }
 
-    // Per dual row: its heaviest cluster (no_index: none reaches it).
+    // Per dual row: its patch's heaviest cluster (no_index: none reaches it).
     std::vector<std::uint32_t> heaviest_;
-    std::vector<std::uint32_t> cluster_offsets_;  // per cluster, into cluster_pulls_
-    std::vector<ClusterPull> cluster_pulls_;      // by cluster, then vertex
-    std::vector<glm::dquat> cluster_kept_;        // per cluster, as kept_
-    std::vector<glm::dquat> cluster_fitted_;      // per cluster, as fitted_
-    std::vector<glm::dmat3> cluster_rotations_;   // per cluster: the last fit's rotation
+    std::vector<std::uint32_t> patch_offsets_;   // per patch, into patch_pulls_
+    std::vector<PatchPull> patch_pulls_;         // by patch, then vertex
+    std::vector<std::uint32_t> member_offsets_;  // per patch, into members_
+    std::vector<Member> members_;                // by patch, in cluster order
+    std::vector<glm::dquat> cluster_kept_;       // per cluster, as kept_
+    std::vector<glm::dquat> cluster_fitted_;     // per cluster, as fitted_
+    std::vector<glm::dmat3> cluster_rotations_;  // per cluster: the last fit's rotation
+    std::vector<glm::dmat3> cluster_sums_;       // per cluster: scratch of the local step
 };
 
 }  // namespace dfm::deform

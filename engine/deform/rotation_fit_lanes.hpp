@@ -47,7 +47,7 @@ struct Mat3 {
 // Lane by lane, which the compiler turns into one vector square root where
 // the includer is compiled with -fno-math-errno (rigidity_rows.cpp and its
 // test are). Otherwise each lane takes a scalar root and a check for a
-// negative argument (errno), and the fit was 10-15% slower. Either way each
+// negative argument (errno), and the fit is slower. Either way each
 // lane's root is correctly rounded: the same bits.
 [[gnu::always_inline]] inline Quad sqrt(const Quad& v) {
     Quad out;

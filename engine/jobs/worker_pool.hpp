@@ -50,6 +50,12 @@ private:
     std::size_t thread_count_;
 };
 
+// Work on fewer unknowns (or rows) than this runs on one thread, whatever
+// the pool: below it, waking the other threads costs more than their share
+// of the work. The factorization, the solves, the set-up's analysis and the
+// rotation fit all split from here.
+inline constexpr std::size_t parallel_minimum = 8192;
+
 // Runs `task(i)` for i in [0, count): on `pool` when there is one, inline
 // otherwise.
 template <class Task>

@@ -15,15 +15,26 @@ namespace dfm::mesh {
 // leaves `selector` empty.
 void split_gltf_spec(std::string_view spec, std::string& file, std::string& selector);
 
+// Where a document's external files (buffers given by a relative URI) may
+// be read: inside `folder`, the document's own, and inside `wider_folder`
+// when the host names one. A URI that is absolute, carries a scheme (file:,
+// http:, ...) or leads out of both folders through ".." is refused, and the
+// load fails naming it (Errc::unsupported). Only the folders' names are
+// compared (after resolving "." and ".."): links inside them are followed.
+struct ExternalFiles {
+    std::filesystem::path folder;
+    std::filesystem::path wider_folder;  // empty: none
+};
+
 // Reads a glTF 2.0 document (JSON or binary, told apart by the GLB magic)
 // into the host's vertices and triangles, unwelded, in world space, and the
 // asset a save writes back. `selector` names one mesh (by name, else by
 // index; its own space); empty: the default scene's meshes with their node
-// transforms. `base_dir` is where external buffers are read from; null
-// refuses external buffers. Never throws but for std::bad_alloc.
-Status read_gltf(std::string_view bytes, std::string_view source,
-                 const std::filesystem::path* base_dir, const std::string& selector, Mesh& host,
-                 GltfAsset& asset, LoadReport& report);
+// transforms. `files` says where external buffers may be read from; null
+// refuses them all (a document given as bytes). Never throws but for
+// std::bad_alloc.
+Status read_gltf(std::string_view bytes, std::string_view source, const ExternalFiles* files,
+                 const std::string& selector, Mesh& host, GltfAsset& asset, LoadReport& report);
 
 // The asset written back with `host_positions` (world space, host order):
 // see docs/gltf.md for what is kept. A non-empty `morph_target` keeps the

@@ -30,16 +30,88 @@ void split_gltf_spec(std::string_view spec, std::string& file, std::string& sele
 
 namespace {
 
-// External buffers are read only below `base_dir`, through these and not
-// through tinygltf's defaults (which expand paths with wordexp).
-struct FileAccess {
-    const std::filesystem::path* base_dir = nullptr;
+// True when `p` is `root` or lies below it; both absolute and lexically
+// normal. A folder's trailing separator leaves an empty last element.
+bool inside(const std::filesystem::path& p, const std::filesystem::path& root) {
+    auto at = p.begin();
+    for (const std::filesystem::path& part : root) {
+        if (part.empty()) break;
+        if (at == p.end() || *at != part) return false;
+        ++at;
+    }
+    return true;
+}
+
+// A URI's scheme, RFC 3986: a letter, then letters, digits, '+', '-' or '.',
+// then ':'.
+bool has_scheme(std::string_view uri) {
+    const std::size_t colon = uri.find(':');
+    if (colon == std::string_view::npos || colon == 0) return false;
+    const auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
+    if (!letter(uri[0])) return false;
+    for (std::size_t i = 1; i < colon; ++i) {
+        const char c = uri[i];
+        if (!letter(c) && !(c >= '0' && c <= '9') && c != '+' && c != '-' && c != '.') return false;
+    }
+    return true;
+}
+
+// External buffers are read only where ExternalFiles allows, through these
+// callbacks and not through tinygltf's defaults (which expand paths with
+// wordexp and also look in the process's working folder). tinygltf hands
+// them the URI, %-decoded, joined onto the document's folder: the URI is
+// what follows that folder's prefix.
+class FileAccess {
+public:
+    explicit FileAccess(const ExternalFiles* files) : files_(files) {
+        if (files_ == nullptr) return;
+        prefix_ = files_->folder.string();
+        if (prefix_.empty() || prefix_.back() != '/') prefix_ += '/';
+        std::error_code ec;
+        folder_ = std::filesystem::absolute(files_->folder, ec).lexically_normal();
+        if (!files_->wider_folder.empty())
+            wider_ = std::filesystem::absolute(files_->wider_folder, ec).lexically_normal();
+    }
+
+    // Whether `path` (as tinygltf made it) may be read. A refused URI is
+    // remembered, the first one, for the load's message.
+    bool allowed(const std::string& path) {
+        if (files_ == nullptr || !path.starts_with(prefix_)) return false;
+        const std::string uri = path.substr(prefix_.size());
+        std::string why;
+        if (has_scheme(uri)) {
+            why = "a URI with a scheme is not followed";
+        } else if (uri.starts_with('/') || uri.starts_with('\\')) {
+            why = "an absolute path is not followed";
+        } else {
+            const std::filesystem::path target = (folder_ / uri).lexically_normal();
+            if (inside(target, folder_) || (!wider_.empty() && inside(target, wider_))) return true;
+            why = wider_.empty() ? "it leads out of the asset's folder"
+                                 : "it leads out of the asset's folder and of " + wider_.string();
+        }
+        if (refused_.empty()) {
+            refused_ = "external file URI '" + uri + "' refused: " + why +
+                       " (a glTF document's external files are read only inside its own "
+                       "folder, or a folder the host names)";
+        }
+        return false;
+    }
+
+    // The first refusal, or "".
+    const std::string& refused() const { return refused_; }
+
+private:
+    const ExternalFiles* files_;
+    std::string prefix_;
+    std::filesystem::path folder_;
+    std::filesystem::path wider_;
+    std::string refused_;
 };
 
 bool file_exists(const std::string& path, void* user) {
-    const auto* access = static_cast<const FileAccess*>(user);
+    auto* access = static_cast<FileAccess*>(user);
     std::error_code ec;
-    return access->base_dir != nullptr && std::filesystem::is_regular_file(path, ec);
+    return access->allowed(path) && std::filesystem::is_regular_file(path, ec);
 }
 
 std::string expand_path(const std::string& path, void*) {
@@ -48,9 +120,9 @@ std::string expand_path(const std::string& path, void*) {
 
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path,
                      void* user) {
-    const auto* access = static_cast<const FileAccess*>(user);
-    if (access->base_dir == nullptr) {
-        if (err) *err += "external file '" + path + "' refused: the document was given as bytes\n";
+    auto* access = static_cast<FileAccess*>(user);
+    if (!access->allowed(path)) {
+        if (err) *err += "external file '" + path + "' refused\n";
         return false;
     }
     std::ifstream in(path, std::ios::binary);
@@ -434,9 +506,8 @@ std::string json_text(std::string_view bytes, bool binary) {
 
 }  // namespace
 
-Status read_gltf(std::string_view bytes, std::string_view source,
-                 const std::filesystem::path* base_dir, const std::string& selector, Mesh& host,
-                 GltfAsset& asset, LoadReport& report) {
+Status read_gltf(std::string_view bytes, std::string_view source, const ExternalFiles* files,
+                 const std::string& selector, Mesh& host, GltfAsset& asset, LoadReport& report) {
     host = Mesh{};
     asset = GltfAsset{};
     const std::string name(source);
@@ -444,14 +515,14 @@ Status read_gltf(std::string_view bytes, std::string_view source,
         return Status(Errc::out_of_range, name + ": more than 4 GiB, larger than glTF allows");
     }
     tinygltf::TinyGLTF loader;
-    FileAccess access{base_dir};
+    FileAccess access(files);
     tinygltf::FsCallbacks fs{&file_exists, &expand_path, &read_whole_file, &refuse_write, &access};
     loader.SetFsCallbacks(fs);
     loader.SetImageLoader(&keep_image, nullptr);
     tinygltf::Model model;
     std::string err, warn;
     const bool binary = bytes.size() >= 4 && bytes.substr(0, 4) == "glTF";
-    const std::string dir = base_dir != nullptr ? base_dir->string() : std::string();
+    const std::string dir = files != nullptr ? files->folder.string() : std::string();
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
     bool ok = false;
     // tinygltf parses without exceptions, but its JSON library may still
@@ -466,6 +537,9 @@ Status read_gltf(std::string_view bytes, std::string_view source,
     } catch (const std::exception& e) {
         err = e.what();
         ok = false;
+    }
+    if (!ok && !access.refused().empty()) {
+        return Status(Errc::unsupported, name + ": " + access.refused());
     }
     if (!ok) {
         return Status(Errc::parse_error, name + ": not a valid glTF 2.0 " +

@@ -7,7 +7,8 @@
 namespace dfm::mesh {
 
 Status load_host_mesh(const std::filesystem::path& spec, Mesh& surface, HostMesh& host,
-                      LoadReport* report, const WeldOptions& weld) {
+                      LoadReport* report, const std::filesystem::path& reference_folder,
+                      const WeldOptions& weld) {
     surface = Mesh{};
     host = HostMesh{};
     std::string file, selector;
@@ -22,10 +23,11 @@ Status load_host_mesh(const std::filesystem::path& spec, Mesh& surface, HostMesh
     try {
         std::string bytes;
         if (Status s = read_file_bytes(path, bytes); !s) return s;
-        const std::filesystem::path base = path.parent_path().empty() ? "." : path.parent_path();
+        const ExternalFiles files{path.parent_path().empty() ? "." : path.parent_path(),
+                                  reference_folder};
         Mesh split;
         auto asset = std::make_shared<GltfAsset>();
-        if (Status s = read_gltf(bytes, path.string(), &base, selector, split, *asset, r); !s) {
+        if (Status s = read_gltf(bytes, path.string(), &files, selector, split, *asset, r); !s) {
             return s;
         }
         auto welded = std::make_shared<SeamWeld>();

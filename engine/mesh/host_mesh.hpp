@@ -22,9 +22,13 @@ struct HostMesh {
 
 // load_mesh that also keeps the host's numbering and the glTF asset. A glTF
 // spec may end in "#mesh=NAME" (or an index); its split copies are welded
-// with `weld` (exact by default).
+// with `weld` (exact by default). A glTF document's external buffers are
+// read only inside its own folder and, when not empty, `reference_folder`
+// (ExternalFiles, gltf_io.hpp).
 Status load_host_mesh(const std::filesystem::path& spec, Mesh& surface, HostMesh& host,
-                      LoadReport* report = nullptr, const WeldOptions& weld = {});
+                      LoadReport* report = nullptr,
+                      const std::filesystem::path& reference_folder = {},
+                      const WeldOptions& weld = {});
 
 // The host's vertex positions: each copy at its surface vertex's position.
 std::vector<glm::dvec3> host_positions(const Mesh& surface, const HostMesh& host);

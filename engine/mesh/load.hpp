@@ -33,7 +33,9 @@ struct LoadReport {
 // numbering). The format comes from the extension, or from the first bytes
 // when the extension says nothing. On failure `out` is left
 // empty and the status names the file, the line (or byte offset) and the
-// element. Never throws.
+// element. Never throws. Only glTF follows references to other files (its
+// external buffers), and only inside the file's own folder (gltf_io.hpp);
+// OBJ's mtllib and usemtl are skipped, OFF and PLY have none.
 Status load_mesh(const std::filesystem::path& path, Mesh& out, LoadReport* report = nullptr);
 
 // Parses a mesh held in memory; `source` names it in messages. glTF from

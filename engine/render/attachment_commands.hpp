@@ -1,7 +1,8 @@
 #pragma once
 
-// Layout transitions and the start of clearing rendering, shared by the
-// offscreen target and the swapchain.
+// The renderer's barriers (every vkCmdPipelineBarrier of engine/render is
+// here) and the start of clearing rendering, shared by the offscreen target,
+// the swapchain and the frame uploader.
 
 #include <vulkan/vulkan.h>
 
@@ -12,6 +13,17 @@ void transition_image(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags asp
                       VkImageLayout from, VkImageLayout to, VkPipelineStageFlags src_stage,
                       VkAccessFlags src_access, VkPipelineStageFlags dst_stage,
                       VkAccessFlags dst_access);
+
+// A global memory barrier: `src_access` writes of `src_stage` made visible
+// to `dst_access` of `dst_stage`.
+void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
+                    VkPipelineStageFlags dst_stage, VkAccessFlags dst_access);
+
+// Copies a rendered colour image (left in COLOR_ATTACHMENT_OPTIMAL by the
+// rendering) into `readback`, tightly packed, and makes the copy visible to
+// the host once the command buffer's fence has signalled. The image is
+// left in TRANSFER_SRC_OPTIMAL.
+void copy_to_host(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, VkBuffer readback);
 
 // Begins dynamic rendering that clears `color` (resolving into `resolve` when
 // given) and `depth` (when given) over `extent`.

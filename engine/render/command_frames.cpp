@@ -10,7 +10,7 @@ CommandFrames::~CommandFrames() {
     if (pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(device_, pool_, nullptr);
 }
 
-RenderStatus CommandFrames::create(const Gpu& gpu, std::size_t count) {
+Status CommandFrames::create(const Gpu& gpu, std::size_t count) {
     device_ = gpu.device;
     queue_ = gpu.queue;
     VkCommandPoolCreateInfo pool{};
@@ -49,18 +49,18 @@ RenderStatus CommandFrames::create(const Gpu& gpu, std::size_t count) {
         }
         acquired_.push_back(s);
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus CommandFrames::wait_current() const {
+Status CommandFrames::wait_current() const {
     if (VkResult r = vkWaitForFences(device_, 1, &fences_[current_], VK_TRUE, UINT64_MAX);
         r != VK_SUCCESS) {
         return vk_failure(r, "vkWaitForFences");
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus CommandFrames::begin_current() const {
+Status CommandFrames::begin_current() const {
     if (VkResult r = vkResetFences(device_, 1, &fences_[current_]); r != VK_SUCCESS) {
         return vk_failure(r, "vkResetFences");
     }
@@ -73,10 +73,10 @@ RenderStatus CommandFrames::begin_current() const {
     if (VkResult r = vkBeginCommandBuffer(commands_[current_], &begin); r != VK_SUCCESS) {
         return vk_failure(r, "vkBeginCommandBuffer");
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus CommandFrames::submit_current(VkSemaphore wait, VkSemaphore signal) const {
+Status CommandFrames::submit_current(VkSemaphore wait, VkSemaphore signal) const {
     if (VkResult r = vkEndCommandBuffer(commands_[current_]); r != VK_SUCCESS) {
         return vk_failure(r, "vkEndCommandBuffer");
     }
@@ -97,7 +97,7 @@ RenderStatus CommandFrames::submit_current(VkSemaphore wait, VkSemaphore signal)
     if (VkResult r = vkQueueSubmit(queue_, 1, &submit, fences_[current_]); r != VK_SUCCESS) {
         return vk_failure(r, "vkQueueSubmit");
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 }  // namespace dfm::render

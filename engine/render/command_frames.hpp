@@ -7,7 +7,7 @@
 #include <vulkan/vulkan.h>
 
 #include "render/device.hpp"
-#include "render/render_status.hpp"
+#include "render/vulkan_result.hpp"
 
 namespace dfm::render {
 
@@ -20,7 +20,7 @@ public:
     CommandFrames& operator=(const CommandFrames&) = delete;
     ~CommandFrames();
 
-    RenderStatus create(const Gpu& gpu, std::size_t count);
+    Status create(const Gpu& gpu, std::size_t count);
 
     std::size_t current() const { return current_; }
     VkCommandBuffer command_buffer() const { return commands_[current_]; }
@@ -28,12 +28,12 @@ public:
     VkSemaphore acquired() const { return acquired_[current_]; }
 
     // Waits until the current slot's last submission has finished.
-    RenderStatus wait_current() const;
+    Status wait_current() const;
     // Resets the current slot's fence and command buffer and begins recording.
-    RenderStatus begin_current() const;
+    Status begin_current() const;
     // Ends recording and submits, signalling the slot's fence; the semaphores
     // are optional (window path).
-    RenderStatus submit_current(VkSemaphore wait, VkSemaphore signal) const;
+    Status submit_current(VkSemaphore wait, VkSemaphore signal) const;
     void advance() { current_ = (current_ + 1) % commands_.size(); }
 
 private:

@@ -73,7 +73,7 @@ Device::~Device() {
     if (gpu_.device != VK_NULL_HANDLE) vkDestroyDevice(gpu_.device, nullptr);
 }
 
-RenderStatus Device::create(VkInstance instance, VkSurfaceKHR surface, Device& out) {
+Status Device::create(VkInstance instance, VkSurfaceKHR surface, Device& out) {
     std::uint32_t count = 0;
     vkEnumeratePhysicalDevices(instance, &count, nullptr);
     std::vector<VkPhysicalDevice> physicals(count);
@@ -84,13 +84,12 @@ RenderStatus Device::create(VkInstance instance, VkSurfaceKHR surface, Device& o
         if (c.rank > best.rank) best = c;
     }
     if (best.rank < 0) {
-        return RenderStatus(Fault::unsupported,
-                            count == 0
-                                ? "no Vulkan device found (for software rendering "
-                                  "install mesa-vulkan-drivers: lavapipe)"
-                                : "no Vulkan 1.3 device with dynamic rendering and a "
-                                  "graphics queue" +
-                                      std::string(surface ? " that presents to the window" : ""));
+        return Status(Errc::unsupported,
+                      count == 0 ? "no Vulkan device found (for software rendering "
+                                   "install mesa-vulkan-drivers: lavapipe)"
+                                 : "no Vulkan 1.3 device with dynamic rendering and a "
+                                   "graphics queue" +
+                                       std::string(surface ? " that presents to the window" : ""));
     }
 
     VkPhysicalDeviceFeatures available;
@@ -130,23 +129,22 @@ RenderStatus Device::create(VkInstance instance, VkSurfaceKHR surface, Device& o
     vkGetDeviceQueue(out.gpu_.device, best.queue_family, 0, &out.gpu_.queue);
     vkGetPhysicalDeviceMemoryProperties(best.physical, &out.gpu_.memory);
     out.gpu_.wireframe = available.fillModeNonSolid == VK_TRUE;
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus describe_host_gpu(Gpu& gpu) {
+Status describe_host_gpu(Gpu& gpu) {
     if (gpu.instance == VK_NULL_HANDLE || gpu.physical == VK_NULL_HANDLE ||
         gpu.device == VK_NULL_HANDLE || gpu.queue == VK_NULL_HANDLE) {
-        return RenderStatus(Fault::invalid_argument,
-                            "instance, physical_device, device and queue must all be given");
+        return Status(Errc::invalid_argument,
+                      "instance, physical_device, device and queue must all be given");
     }
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(gpu.physical, &props);
     if (props.apiVersion < VK_API_VERSION_1_3) {
-        return RenderStatus(Fault::unsupported,
-                            "the host's physical device does not offer Vulkan 1.3");
+        return Status(Errc::unsupported, "the host's physical device does not offer Vulkan 1.3");
     }
     vkGetPhysicalDeviceMemoryProperties(gpu.physical, &gpu.memory);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 }  // namespace dfm::render

@@ -4,7 +4,7 @@
 
 #include <vulkan/vulkan.h>
 
-#include "render/render_status.hpp"
+#include "render/vulkan_result.hpp"
 
 namespace dfm::render {
 
@@ -33,7 +33,7 @@ public:
     Device& operator=(const Device&) = delete;
     ~Device();
 
-    static RenderStatus create(VkInstance instance, VkSurfaceKHR surface, Device& out);
+    static Status create(VkInstance instance, VkSurfaceKHR surface, Device& out);
 
     const Gpu& gpu() const { return gpu_; }
 
@@ -43,6 +43,6 @@ private:
 
 // Fills in the properties of handles a host created (memory types, features
 // in use); fails when the device cannot run the renderer.
-RenderStatus describe_host_gpu(Gpu& gpu);
+Status describe_host_gpu(Gpu& gpu);
 
 }  // namespace dfm::render

@@ -23,7 +23,7 @@ public:
 
     // Writes the scene's vertices into the slot's staging buffer, growing the
     // slot's buffers when the scene outgrew them.
-    RenderStatus stage(const Gpu& gpu, std::size_t slot, const SceneData& scene);
+    Status stage(const Gpu& gpu, std::size_t slot, const SceneData& scene);
 
     // Records the staging-to-vertex-buffer copies and the barrier that makes
     // them visible to vertex input. Outside any rendering.

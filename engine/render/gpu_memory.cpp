@@ -21,12 +21,11 @@ std::uint32_t find_memory_type(const VkPhysicalDeviceMemoryProperties& memory, s
     return UINT32_MAX;
 }
 
-RenderStatus allocate(const Gpu& gpu, const VkMemoryRequirements& needs,
-                      VkMemoryPropertyFlags wanted, VkMemoryPropertyFlags needed,
-                      VkDeviceMemory& out) {
+Status allocate(const Gpu& gpu, const VkMemoryRequirements& needs, VkMemoryPropertyFlags wanted,
+                VkMemoryPropertyFlags needed, VkDeviceMemory& out) {
     const std::uint32_t type = find_memory_type(gpu.memory, needs.memoryTypeBits, wanted, needed);
     if (type == UINT32_MAX) {
-        return RenderStatus(Fault::unsupported, "no suitable Vulkan memory type");
+        return Status(Errc::unsupported, "no suitable Vulkan memory type");
     }
     VkMemoryAllocateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
@@ -36,7 +35,7 @@ RenderStatus allocate(const Gpu& gpu, const VkMemoryRequirements& needs,
         out = VK_NULL_HANDLE;
         return vk_failure(r, "vkAllocateMemory");
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 }  // namespace
@@ -54,8 +53,8 @@ void GpuBuffer::swap(GpuBuffer& other) noexcept {
     std::swap(mapped_, other.mapped_);
 }
 
-RenderStatus GpuBuffer::create(const Gpu& gpu, VkDeviceSize size, VkBufferUsageFlags usage,
-                               bool host_visible, GpuBuffer& out) {
+Status GpuBuffer::create(const Gpu& gpu, VkDeviceSize size, VkBufferUsageFlags usage,
+                         bool host_visible, GpuBuffer& out) {
     GpuBuffer made;
     made.device_ = gpu.device;
     made.size_ = size;
@@ -72,9 +71,9 @@ RenderStatus GpuBuffer::create(const Gpu& gpu, VkDeviceSize size, VkBufferUsageF
     vkGetBufferMemoryRequirements(gpu.device, made.buffer_, &needs);
     const VkMemoryPropertyFlags host =
         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    if (RenderStatus s = host_visible ? allocate(gpu, needs, host, host, made.memory_)
-                                      : allocate(gpu, needs, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0,
-                                                 made.memory_);
+    if (Status s = host_visible
+                       ? allocate(gpu, needs, host, host, made.memory_)
+                       : allocate(gpu, needs, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, made.memory_);
         !s) {
         return s;
     }
@@ -89,7 +88,7 @@ RenderStatus GpuBuffer::create(const Gpu& gpu, VkDeviceSize size, VkBufferUsageF
         }
     }
     out = std::move(made);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 GpuImage::~GpuImage() {
@@ -105,9 +104,9 @@ void GpuImage::swap(GpuImage& other) noexcept {
     std::swap(view_, other.view_);
 }
 
-RenderStatus GpuImage::create(const Gpu& gpu, VkExtent2D extent, VkFormat format,
-                              VkSampleCountFlagBits samples, VkImageUsageFlags usage,
-                              VkImageAspectFlags aspect, GpuImage& out) {
+Status GpuImage::create(const Gpu& gpu, VkExtent2D extent, VkFormat format,
+                        VkSampleCountFlagBits samples, VkImageUsageFlags usage,
+                        VkImageAspectFlags aspect, GpuImage& out) {
     GpuImage made;
     made.device_ = gpu.device;
     VkImageCreateInfo info{};
@@ -128,8 +127,7 @@ RenderStatus GpuImage::create(const Gpu& gpu, VkExtent2D extent, VkFormat format
     }
     VkMemoryRequirements needs;
     vkGetImageMemoryRequirements(gpu.device, made.image_, &needs);
-    if (RenderStatus s = allocate(gpu, needs, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, made.memory_);
-        !s) {
+    if (Status s = allocate(gpu, needs, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, made.memory_); !s) {
         return s;
     }
     if (VkResult r = vkBindImageMemory(gpu.device, made.image_, made.memory_, 0); r != VK_SUCCESS) {
@@ -146,7 +144,7 @@ RenderStatus GpuImage::create(const Gpu& gpu, VkExtent2D extent, VkFormat format
         return vk_failure(r, "vkCreateImageView");
     }
     out = std::move(made);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 }  // namespace dfm::render

@@ -5,7 +5,7 @@
 #include <vulkan/vulkan.h>
 
 #include "render/device.hpp"
-#include "render/render_status.hpp"
+#include "render/vulkan_result.hpp"
 
 namespace dfm::render {
 
@@ -24,8 +24,8 @@ public:
 
     // `host_visible`: mapped, coherent memory; otherwise device-local where the
     // device has it.
-    static RenderStatus create(const Gpu& gpu, VkDeviceSize size, VkBufferUsageFlags usage,
-                               bool host_visible, GpuBuffer& out);
+    static Status create(const Gpu& gpu, VkDeviceSize size, VkBufferUsageFlags usage,
+                         bool host_visible, GpuBuffer& out);
 
     VkBuffer handle() const { return buffer_; }
     VkDeviceSize size() const { return size_; }
@@ -53,9 +53,9 @@ public:
     }
     ~GpuImage();
 
-    static RenderStatus create(const Gpu& gpu, VkExtent2D extent, VkFormat format,
-                               VkSampleCountFlagBits samples, VkImageUsageFlags usage,
-                               VkImageAspectFlags aspect, GpuImage& out);
+    static Status create(const Gpu& gpu, VkExtent2D extent, VkFormat format,
+                         VkSampleCountFlagBits samples, VkImageUsageFlags usage,
+                         VkImageAspectFlags aspect, GpuImage& out);
 
     VkImage handle() const { return image_; }
     VkImageView view() const { return view_; }

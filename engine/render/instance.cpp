@@ -31,16 +31,16 @@ Instance::~Instance() {
     if (instance_ != VK_NULL_HANDLE) vkDestroyInstance(instance_, nullptr);
 }
 
-RenderStatus Instance::create(const std::vector<const char*>& extensions, bool validation,
-                              ValidationCounter& counter, Instance& out) {
+Status Instance::create(const std::vector<const char*>& extensions, bool validation,
+                        ValidationCounter& counter, Instance& out) {
     std::uint32_t version = 0;
     if (vkEnumerateInstanceVersion(&version) != VK_SUCCESS || version < VK_API_VERSION_1_3) {
-        return RenderStatus(Fault::unsupported, "the Vulkan loader does not offer Vulkan 1.3");
+        return Status(Errc::unsupported, "the Vulkan loader does not offer Vulkan 1.3");
     }
     if (validation && !layer_available(validation_layer)) {
-        return RenderStatus(Fault::unsupported,
-                            "validation was asked for, but VK_LAYER_KHRONOS_validation is "
-                            "not installed (Debian: vulkan-validationlayers)");
+        return Status(Errc::unsupported,
+                      "validation was asked for, but VK_LAYER_KHRONOS_validation is "
+                      "not installed (Debian: vulkan-validationlayers)");
     }
     VkApplicationInfo app{};
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
@@ -69,7 +69,7 @@ RenderStatus Instance::create(const std::vector<const char*>& extensions, bool v
         auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(out.instance_, "vkCreateDebugUtilsMessengerEXT"));
         if (!create) {
-            return RenderStatus(Fault::unsupported, "vkCreateDebugUtilsMessengerEXT is missing");
+            return Status(Errc::unsupported, "vkCreateDebugUtilsMessengerEXT is missing");
         }
         if (VkResult r = create(out.instance_, &messenger_info, nullptr, &out.messenger_);
             r != VK_SUCCESS) {
@@ -77,7 +77,7 @@ RenderStatus Instance::create(const std::vector<const char*>& extensions, bool v
             return vk_failure(r, "vkCreateDebugUtilsMessengerEXT");
         }
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 }  // namespace dfm::render

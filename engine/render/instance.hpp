@@ -4,8 +4,8 @@
 
 #include <vulkan/vulkan.h>
 
-#include "render/render_status.hpp"
 #include "render/validation.hpp"
+#include "render/vulkan_result.hpp"
 
 namespace dfm::render {
 
@@ -20,8 +20,8 @@ public:
 
     // `extensions`: what the window's surface needs, empty when headless.
     // `counter` must outlive the instance.
-    static RenderStatus create(const std::vector<const char*>& extensions, bool validation,
-                               ValidationCounter& counter, Instance& out);
+    static Status create(const std::vector<const char*>& extensions, bool validation,
+                         ValidationCounter& counter, Instance& out);
 
     VkInstance handle() const { return instance_; }
 

@@ -12,46 +12,44 @@ constexpr VkPipelineStageFlags attachment_stages = VK_PIPELINE_STAGE_COLOR_ATTAC
 
 }  // namespace
 
-RenderStatus OffscreenTarget::create(const Gpu& gpu, const AttachmentFormats& formats,
-                                     VkExtent2D extent, OffscreenTarget& out) {
+Status OffscreenTarget::create(const Gpu& gpu, const AttachmentFormats& formats, VkExtent2D extent,
+                               OffscreenTarget& out) {
     OffscreenTarget made;
     made.extent_ = extent;
     made.multisampled_ = formats.samples != VK_SAMPLE_COUNT_1_BIT;
     const VkImageUsageFlags picture_usage =
         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     if (made.multisampled_) {
-        if (RenderStatus s = GpuImage::create(
+        if (Status s = GpuImage::create(
                 gpu, extent, formats.color, formats.samples,
                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
                 VK_IMAGE_ASPECT_COLOR_BIT, made.color_);
             !s) {
             return s;
         }
-        if (RenderStatus s =
-                GpuImage::create(gpu, extent, formats.color, VK_SAMPLE_COUNT_1_BIT, picture_usage,
-                                 VK_IMAGE_ASPECT_COLOR_BIT, made.resolve_);
+        if (Status s = GpuImage::create(gpu, extent, formats.color, VK_SAMPLE_COUNT_1_BIT,
+                                        picture_usage, VK_IMAGE_ASPECT_COLOR_BIT, made.resolve_);
             !s) {
             return s;
         }
-    } else if (RenderStatus s =
-                   GpuImage::create(gpu, extent, formats.color, VK_SAMPLE_COUNT_1_BIT,
-                                    picture_usage, VK_IMAGE_ASPECT_COLOR_BIT, made.color_);
+    } else if (Status s = GpuImage::create(gpu, extent, formats.color, VK_SAMPLE_COUNT_1_BIT,
+                                           picture_usage, VK_IMAGE_ASPECT_COLOR_BIT, made.color_);
                !s) {
         return s;
     }
-    if (RenderStatus s = GpuImage::create(gpu, extent, formats.depth, formats.samples,
-                                          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                                          VK_IMAGE_ASPECT_DEPTH_BIT, made.depth_);
+    if (Status s = GpuImage::create(gpu, extent, formats.depth, formats.samples,
+                                    VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                                    VK_IMAGE_ASPECT_DEPTH_BIT, made.depth_);
         !s) {
         return s;
     }
-    if (RenderStatus s = GpuBuffer::create(gpu, VkDeviceSize{extent.width} * extent.height * 4,
-                                           VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, made.readback_);
+    if (Status s = GpuBuffer::create(gpu, VkDeviceSize{extent.width} * extent.height * 4,
+                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, made.readback_);
         !s) {
         return s;
     }
     out = std::move(made);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 void OffscreenTarget::record_begin(VkCommandBuffer cmd, const float background[4]) const {
@@ -78,23 +76,8 @@ void OffscreenTarget::record_begin(VkCommandBuffer cmd, const float background[4
 
 void OffscreenTarget::record_end_and_copy(VkCommandBuffer cmd) const {
     vkCmdEndRendering(cmd);
-    const VkImage picture = multisampled_ ? resolve_.handle() : color_.handle();
-    transition_image(cmd, picture, VK_IMAGE_ASPECT_COLOR_BIT,
-                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                     VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-                     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                     VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {extent_.width, extent_.height, 1};
-    vkCmdCopyImageToBuffer(cmd, picture, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.handle(),
-                           1, &region);
-    VkMemoryBarrier to_host{};
-    to_host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                         &to_host, 0, nullptr, 0, nullptr);
+    copy_to_host(cmd, multisampled_ ? resolve_.handle() : color_.handle(), extent_,
+                 readback_.handle());
 }
 
 std::span<const std::uint8_t> OffscreenTarget::pixels() const {

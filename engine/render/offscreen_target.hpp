@@ -15,8 +15,8 @@ namespace dfm::render {
 // picture is copied into for reading back. Move-only.
 class OffscreenTarget {
 public:
-    static RenderStatus create(const Gpu& gpu, const AttachmentFormats& formats, VkExtent2D extent,
-                               OffscreenTarget& out);
+    static Status create(const Gpu& gpu, const AttachmentFormats& formats, VkExtent2D extent,
+                         OffscreenTarget& out);
 
     VkExtent2D extent() const { return extent_; }
 

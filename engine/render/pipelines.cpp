@@ -49,8 +49,8 @@ struct PipelineSpec {
     bool depth_write;
 };
 
-RenderStatus build(VkDevice device, const AttachmentFormats& formats, const PipelineSpec& spec,
-                   VkPipeline& out) {
+Status build(VkDevice device, const AttachmentFormats& formats, const PipelineSpec& spec,
+             VkPipeline& out) {
     const VkPipelineShaderStageCreateInfo stages[2] = {
         {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0,
          VK_SHADER_STAGE_VERTEX_BIT, spec.vertex, "main", nullptr},
@@ -123,10 +123,10 @@ RenderStatus build(VkDevice device, const AttachmentFormats& formats, const Pipe
         out = VK_NULL_HANDLE;
         return vk_failure(r, "vkCreateGraphicsPipelines");
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus make_layout(VkDevice device, std::uint32_t push_size, VkPipelineLayout& out) {
+Status make_layout(VkDevice device, std::uint32_t push_size, VkPipelineLayout& out) {
     const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                                     push_size};
     VkPipelineLayoutCreateInfo info{};
@@ -137,7 +137,7 @@ RenderStatus make_layout(VkDevice device, std::uint32_t push_size, VkPipelineLay
         out = VK_NULL_HANDLE;
         return vk_failure(r, "vkCreatePipelineLayout");
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 }  // namespace
@@ -151,7 +151,7 @@ Pipelines::~Pipelines() {
     }
 }
 
-RenderStatus Pipelines::create(VkDevice device, const AttachmentFormats& formats, bool wireframe) {
+Status Pipelines::create(VkDevice device, const AttachmentFormats& formats, bool wireframe) {
     device_ = device;
     const ShaderModule mesh_vert(device, mesh_vert_spv);
     const ShaderModule mesh_frag(device, mesh_frag_spv);
@@ -160,8 +160,8 @@ RenderStatus Pipelines::create(VkDevice device, const AttachmentFormats& formats
     for (const ShaderModule* m : {&mesh_vert, &mesh_frag, &line_vert, &line_frag}) {
         if (m->result() != VK_SUCCESS) return vk_failure(m->result(), "vkCreateShaderModule");
     }
-    if (RenderStatus s = make_layout(device, sizeof(MeshPush), mesh_layout_); !s) return s;
-    if (RenderStatus s = make_layout(device, sizeof(LinePush), line_layout_); !s) return s;
+    if (Status s = make_layout(device, sizeof(MeshPush), mesh_layout_); !s) return s;
+    if (Status s = make_layout(device, sizeof(LinePush), line_layout_); !s) return s;
 
     const VkVertexInputAttributeDescription mesh_attributes[3] = {
         {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, position)},
@@ -175,12 +175,12 @@ RenderStatus Pipelines::create(VkDevice device, const AttachmentFormats& formats
                          mesh_layout_,         mesh_attributes,
                          sizeof(MeshVertex),   VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
                          VK_POLYGON_MODE_FILL, true};
-    if (RenderStatus s = build(device, formats, surface, surface_); !s) return s;
+    if (Status s = build(device, formats, surface, surface_); !s) return s;
     if (wireframe) {
         PipelineSpec wire = surface;
         wire.polygon_mode = VK_POLYGON_MODE_LINE;
         wire.depth_write = false;
-        if (RenderStatus s = build(device, formats, wire, wireframe_); !s) return s;
+        if (Status s = build(device, formats, wire, wireframe_); !s) return s;
     }
     PipelineSpec lines{line_vert.handle(),   line_frag.handle(),
                        line_layout_,         line_attributes,

@@ -4,7 +4,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
-#include "render/render_status.hpp"
+#include "render/vulkan_result.hpp"
 
 namespace dfm::render {
 
@@ -42,7 +42,7 @@ public:
     Pipelines& operator=(const Pipelines&) = delete;
     ~Pipelines();
 
-    RenderStatus create(VkDevice device, const AttachmentFormats& formats, bool wireframe);
+    Status create(VkDevice device, const AttachmentFormats& formats, bool wireframe);
 
     VkPipelineLayout mesh_layout() const { return mesh_layout_; }
     VkPipelineLayout line_layout() const { return line_layout_; }

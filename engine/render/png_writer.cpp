@@ -6,16 +6,15 @@
 
 namespace dfm::render {
 
-RenderStatus write_png(const std::string& path, std::span<const std::uint8_t> rgba,
-                       std::uint32_t width, std::uint32_t height) {
+Status write_png(const std::string& path, std::span<const std::uint8_t> rgba, std::uint32_t width,
+                 std::uint32_t height) {
     if (width == 0 || height == 0) {
-        return RenderStatus(Fault::invalid_argument, "png: width and height must be positive");
+        return Status(Errc::invalid_argument, "png: width and height must be positive");
     }
     if (rgba.size() != static_cast<std::size_t>(width) * height * 4) {
-        return RenderStatus(Fault::invalid_argument, "png: " + std::to_string(rgba.size()) +
-                                                         " bytes given for " +
-                                                         std::to_string(width) + "x" +
-                                                         std::to_string(height) + " RGBA pixels");
+        return Status(Errc::invalid_argument, "png: " + std::to_string(rgba.size()) +
+                                                  " bytes given for " + std::to_string(width) +
+                                                  "x" + std::to_string(height) + " RGBA pixels");
     }
     // libpng's simplified API reports through the struct instead of longjmp,
     // which would skip C++ destructors.
@@ -29,9 +28,9 @@ RenderStatus write_png(const std::string& path, std::span<const std::uint8_t> rg
     if (!written) {
         const std::string why = image.message;
         png_image_free(&image);
-        return RenderStatus(Fault::io_error, path + ": cannot write the PNG: " + why);
+        return Status(Errc::io_error, path + ": cannot write the PNG: " + why);
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 }  // namespace dfm::render

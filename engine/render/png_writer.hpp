@@ -4,13 +4,13 @@
 #include <span>
 #include <string>
 
-#include "render/render_status.hpp"
+#include "render/vulkan_result.hpp"
 
 namespace dfm::render {
 
 // Writes an 8-bit RGBA picture (rows top to bottom, width × height × 4
 // bytes) as a PNG file with libpng.
-RenderStatus write_png(const std::string& path, std::span<const std::uint8_t> rgba,
-                       std::uint32_t width, std::uint32_t height);
+Status write_png(const std::string& path, std::span<const std::uint8_t> rgba, std::uint32_t width,
+                 std::uint32_t height);
 
 }  // namespace dfm::render

@@ -23,11 +23,10 @@ Renderer::~Renderer() {
     if (surface_ != VK_NULL_HANDLE) vkDestroySurfaceKHR(instance_.handle(), surface_, nullptr);
 }
 
-RenderStatus Renderer::create_own(const OwnDeviceOptions& options, const WindowSurface* window) {
+Status Renderer::create_own(const OwnDeviceOptions& options, const WindowSurface* window) {
     const std::vector<const char*> no_extensions;
-    if (RenderStatus s =
-            Instance::create(window != nullptr ? window->instance_extensions : no_extensions,
-                             options.validation, *counter_, instance_);
+    if (Status s = Instance::create(window != nullptr ? window->instance_extensions : no_extensions,
+                                    options.validation, *counter_, instance_);
         !s) {
         return s;
     }
@@ -38,102 +37,100 @@ RenderStatus Renderer::create_own(const OwnDeviceOptions& options, const WindowS
         }
         window_extent_ = window->framebuffer_extent;
     }
-    if (RenderStatus s = Device::create(instance_.handle(), surface_, owned_device_); !s) return s;
+    if (Status s = Device::create(instance_.handle(), surface_, owned_device_); !s) return s;
     gpu_ = owned_device_.gpu();
     vsync_ = options.vsync;
     formats_.color = offscreen_color;
     formats_.depth = depth_format;
     formats_.samples = std::min(best_sample_count(gpu_.physical), options.max_samples);
     if (window != nullptr) {
-        if (RenderStatus s = Swapchain::choose_format(gpu_, surface_, surface_format_); !s) {
+        if (Status s = Swapchain::choose_format(gpu_, surface_, surface_format_); !s) {
             return s;
         }
         formats_.color = surface_format_.format;
     }
-    if (RenderStatus s = frames_.create(gpu_, uploader_.slot_count()); !s) return s;
+    if (Status s = frames_.create(gpu_, uploader_.slot_count()); !s) return s;
     return pipelines_.create(gpu_.device, formats_, gpu_.wireframe);
 }
 
-RenderStatus Renderer::create_headless(const OwnDeviceOptions& options,
-                                       std::unique_ptr<Renderer>& out) {
+Status Renderer::create_headless(const OwnDeviceOptions& options, std::unique_ptr<Renderer>& out) {
     if (options.frames_in_flight == 0 || options.frames_in_flight > 8) {
-        return RenderStatus(Fault::invalid_argument, "frames_in_flight must lie in 1..8");
+        return Status(Errc::invalid_argument, "frames_in_flight must lie in 1..8");
     }
     std::unique_ptr<Renderer> r(new Renderer(options.frames_in_flight));
-    if (RenderStatus s = r->create_own(options, nullptr); !s) return s;
+    if (Status s = r->create_own(options, nullptr); !s) return s;
     out = std::move(r);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus Renderer::create_window(const OwnDeviceOptions& options, WindowSurface window,
-                                     std::unique_ptr<Renderer>& out) {
+Status Renderer::create_window(const OwnDeviceOptions& options, WindowSurface window,
+                               std::unique_ptr<Renderer>& out) {
     if (!window.create_surface || !window.framebuffer_extent) {
-        return RenderStatus(Fault::invalid_argument,
-                            "a window needs its create_surface and framebuffer_size functions");
+        return Status(Errc::invalid_argument,
+                      "a window needs its create_surface and framebuffer_size functions");
     }
     if (options.frames_in_flight == 0 || options.frames_in_flight > 8) {
-        return RenderStatus(Fault::invalid_argument, "frames_in_flight must lie in 1..8");
+        return Status(Errc::invalid_argument, "frames_in_flight must lie in 1..8");
     }
     std::unique_ptr<Renderer> r(new Renderer(options.frames_in_flight));
-    if (RenderStatus s = r->create_own(options, &window); !s) return s;
+    if (Status s = r->create_own(options, &window); !s) return s;
     out = std::move(r);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus Renderer::create_host(const HostDevice& host, std::unique_ptr<Renderer>& out) {
+Status Renderer::create_host(const HostDevice& host, std::unique_ptr<Renderer>& out) {
     if (host.frames_in_flight == 0 || host.frames_in_flight > 8) {
-        return RenderStatus(Fault::invalid_argument, "frames_in_flight must lie in 1..8");
+        return Status(Errc::invalid_argument, "frames_in_flight must lie in 1..8");
     }
     if (host.formats.color == VK_FORMAT_UNDEFINED) {
-        return RenderStatus(Fault::invalid_argument, "the host's colour format is needed");
+        return Status(Errc::invalid_argument, "the host's colour format is needed");
     }
     std::unique_ptr<Renderer> r(new Renderer(host.frames_in_flight));
     r->gpu_ = host.gpu;
-    if (RenderStatus s = describe_host_gpu(r->gpu_); !s) {
+    if (Status s = describe_host_gpu(r->gpu_); !s) {
         r->gpu_.device = VK_NULL_HANDLE;
         return s;
     }
     r->formats_ = host.formats;
-    if (RenderStatus s = r->pipelines_.create(r->gpu_.device, r->formats_, r->gpu_.wireframe); !s) {
+    if (Status s = r->pipelines_.create(r->gpu_.device, r->formats_, r->gpu_.wireframe); !s) {
         return s;
     }
     out = std::move(r);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus Renderer::check_usable() const {
+Status Renderer::check_usable() const {
     if (failed_) {
-        return RenderStatus(Fault::device,
-                            "the renderer is unusable after an earlier device failure");
+        return Status(Errc::device, "the renderer is unusable after an earlier device failure");
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus Renderer::broken(RenderStatus status) {
+Status Renderer::broken(Status status) {
     if (!status) failed_ = true;
     return status;
 }
 
-RenderStatus Renderer::wait_idle() const {
+Status Renderer::wait_idle() const {
     // Own devices only: a host's queue is never waited on.
     const VkResult r = vkDeviceWaitIdle(gpu_.device);
-    return r == VK_SUCCESS ? RenderStatus::ok() : vk_failure(r, "waiting for the device");
+    return r == VK_SUCCESS ? Status::ok() : vk_failure(r, "waiting for the device");
 }
 
-RenderStatus Renderer::set_mesh(const StridedPositions& positions,
-                                std::span<const std::uint32_t> triangle_indices) {
-    if (RenderStatus s = check_usable(); !s) return s;
+Status Renderer::set_mesh(const StridedPositions& positions,
+                          std::span<const std::uint32_t> triangle_indices) {
+    if (Status s = check_usable(); !s) return s;
     SceneData next = scene_;
-    if (RenderStatus s = next.set_mesh(positions, triangle_indices); !s) return s;
+    if (Status s = next.set_mesh(positions, triangle_indices); !s) return s;
     // The index buffer is replaced while frames in flight may still read the
     // old one. Our own device is waited for; a host's is not: the old buffer
     // lives on until the host's frame fence covers the last draw that used it.
     if (owns_device()) {
-        if (RenderStatus s = wait_idle(); !s) return broken(s);
+        if (Status s = wait_idle(); !s) return broken(s);
     }
     GpuBuffer indices;
-    if (RenderStatus s = GpuBuffer::create(gpu_, next.indices().size_bytes(),
-                                           VK_BUFFER_USAGE_INDEX_BUFFER_BIT, true, indices);
+    if (Status s = GpuBuffer::create(gpu_, next.indices().size_bytes(),
+                                     VK_BUFFER_USAGE_INDEX_BUFFER_BIT, true, indices);
         !s) {
         return s;
     }
@@ -143,19 +140,19 @@ RenderStatus Renderer::set_mesh(const StridedPositions& positions,
     }
     indices_ = std::move(indices);
     scene_ = std::move(next);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus Renderer::set_positions(const StridedPositions& positions) {
+Status Renderer::set_positions(const StridedPositions& positions) {
     return scene_.set_positions(positions);
 }
 
-RenderStatus Renderer::set_marks(std::span<const std::uint8_t> marks) {
-    if (!scene_.has_mesh()) return RenderStatus(Fault::invalid_argument, "marks: no mesh set");
+Status Renderer::set_marks(std::span<const std::uint8_t> marks) {
+    if (!scene_.has_mesh()) return Status(Errc::invalid_argument, "marks: no mesh set");
     return scene_.set_marks(marks);
 }
 
-RenderStatus Renderer::set_lines(std::span<const Polyline> lines) {
+Status Renderer::set_lines(std::span<const Polyline> lines) {
     return scene_.set_lines(lines);
 }
 
@@ -169,43 +166,42 @@ DrawBuffers Renderer::draw_buffers(std::size_t slot) const {
     return b;
 }
 
-RenderStatus Renderer::render_offscreen(const ViewSettings& view, std::span<std::uint8_t> rgba) {
-    if (RenderStatus s = check_usable(); !s) return s;
+Status Renderer::render_offscreen(const ViewSettings& view, std::span<std::uint8_t> rgba) {
+    if (Status s = check_usable(); !s) return s;
     if (!owns_device()) {
-        return RenderStatus(Fault::unsupported,
-                            "offscreen rendering needs a renderer with its own device; a host "
-                            "device records into its own command buffers");
+        return Status(Errc::unsupported,
+                      "offscreen rendering needs a renderer with its own device; a host "
+                      "device records into its own command buffers");
     }
     const VkExtent2D extent{view.camera.width, view.camera.height};
     if (extent.width == 0 || extent.height == 0 || extent.width > 16384 || extent.height > 16384) {
-        return RenderStatus(Fault::invalid_argument,
-                            "camera width and height must lie in 1..16384");
+        return Status(Errc::invalid_argument, "camera width and height must lie in 1..16384");
     }
     if (!rgba.empty() && rgba.size() != std::size_t{extent.width} * extent.height * 4) {
-        return RenderStatus(Fault::invalid_argument,
-                            "the pixel buffer must hold width x height x 4 bytes");
+        return Status(Errc::invalid_argument,
+                      "the pixel buffer must hold width x height x 4 bytes");
     }
     if (!offscreen_ || offscreen_->extent().width != extent.width ||
         offscreen_->extent().height != extent.height) {
-        if (RenderStatus s = wait_idle(); !s) return broken(s);
+        if (Status s = wait_idle(); !s) return broken(s);
         OffscreenTarget target;
-        if (RenderStatus s = OffscreenTarget::create(gpu_, formats_, extent, target); !s) return s;
+        if (Status s = OffscreenTarget::create(gpu_, formats_, extent, target); !s) return s;
         offscreen_ = std::move(target);
     }
-    if (RenderStatus s = frames_.wait_current(); !s) return broken(s);
+    if (Status s = frames_.wait_current(); !s) return broken(s);
     const std::size_t slot = frames_.current();
-    if (RenderStatus s = uploader_.stage(gpu_, slot, scene_); !s) return s;
-    if (RenderStatus s = frames_.begin_current(); !s) return broken(s);
+    if (Status s = uploader_.stage(gpu_, slot, scene_); !s) return s;
+    if (Status s = frames_.begin_current(); !s) return broken(s);
     const VkCommandBuffer cmd = frames_.command_buffer();
     uploader_.record_copy(cmd, slot);
     offscreen_->record_begin(cmd, &view.background[0]);
     record_scene_draw(cmd, pipelines_, draw_buffers(slot), view, scene_.bounds(), extent);
     offscreen_->record_end_and_copy(cmd);
-    if (RenderStatus s = frames_.submit_current(VK_NULL_HANDLE, VK_NULL_HANDLE); !s) {
+    if (Status s = frames_.submit_current(VK_NULL_HANDLE, VK_NULL_HANDLE); !s) {
         return broken(s);
     }
     if (!rgba.empty()) {
-        if (RenderStatus s = frames_.wait_current(); !s) return broken(s);
+        if (Status s = frames_.wait_current(); !s) return broken(s);
         const std::span<const std::uint8_t> picture = offscreen_->pixels();
         std::memcpy(rgba.data(), picture.data(), picture.size());
         // A window renderer draws in its swapchain's format, which may be
@@ -216,17 +212,17 @@ RenderStatus Renderer::render_offscreen(const ViewSettings& view, std::span<std:
         }
     }
     frames_.advance();
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus Renderer::rebuild_swapchain(bool& usable) {
+Status Renderer::rebuild_swapchain(bool& usable) {
     usable = false;
     const VkExtent2D extent = window_extent_();
-    if (extent.width == 0 || extent.height == 0) return RenderStatus::ok();
-    if (RenderStatus s = wait_idle(); !s) return s;
+    if (extent.width == 0 || extent.height == 0) return Status::ok();
+    if (Status s = wait_idle(); !s) return s;
     swapchain_.reset();
     auto next = std::make_unique<Swapchain>();
-    if (RenderStatus s =
+    if (Status s =
             Swapchain::create(gpu_, surface_, formats_, surface_format_, extent, vsync_, *next);
         !s) {
         return s;
@@ -234,50 +230,49 @@ RenderStatus Renderer::rebuild_swapchain(bool& usable) {
     swapchain_ = std::move(next);
     ++swapchain_generation_;
     usable = true;
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus Renderer::present(const ViewSettings& view, bool& presented,
-                               std::span<std::uint8_t> rgba) {
+Status Renderer::present(const ViewSettings& view, bool& presented, std::span<std::uint8_t> rgba) {
     presented = false;
-    if (RenderStatus s = check_usable(); !s) return s;
+    if (Status s = check_usable(); !s) return s;
     if (!window_extent_) {
-        return RenderStatus(Fault::unsupported, "present needs a renderer made for a window");
+        return Status(Errc::unsupported, "present needs a renderer made for a window");
     }
     const VkExtent2D extent = window_extent_();
-    if (extent.width == 0 || extent.height == 0) return RenderStatus::ok();  // minimised
+    if (extent.width == 0 || extent.height == 0) return Status::ok();  // minimised
     if (!swapchain_ || swapchain_->extent().width != extent.width ||
         swapchain_->extent().height != extent.height) {
         bool usable = false;
-        if (RenderStatus s = rebuild_swapchain(usable); !s) return broken(s);
-        if (!usable) return RenderStatus::ok();
+        if (Status s = rebuild_swapchain(usable); !s) return broken(s);
+        if (!usable) return Status::ok();
     }
     const VkExtent2D shown_extent = swapchain_->extent();
     const std::size_t picture_bytes = std::size_t{shown_extent.width} * shown_extent.height * 4;
     if (!rgba.empty()) {
         if (!swapchain_->readable()) {
-            return RenderStatus(Fault::unsupported,
-                                "this window's surface does not let its pictures be read");
+            return Status(Errc::unsupported,
+                          "this window's surface does not let its pictures be read");
         }
         if (rgba.size() != picture_bytes) {
-            return RenderStatus(Fault::invalid_argument,
-                                "the window's picture is " + std::to_string(shown_extent.width) +
-                                    " x " + std::to_string(shown_extent.height) +
-                                    ": the pixel buffer must hold " +
-                                    std::to_string(picture_bytes) + " bytes");
+            return Status(Errc::invalid_argument, "the window's picture is " +
+                                                      std::to_string(shown_extent.width) + " x " +
+                                                      std::to_string(shown_extent.height) +
+                                                      ": the pixel buffer must hold " +
+                                                      std::to_string(picture_bytes) + " bytes");
         }
         if (window_readback_.handle() == VK_NULL_HANDLE ||
             window_readback_.size() != picture_bytes) {
             GpuBuffer readback;
-            if (RenderStatus s = GpuBuffer::create(
-                    gpu_, picture_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, readback);
+            if (Status s = GpuBuffer::create(gpu_, picture_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                             true, readback);
                 !s) {
                 return s;
             }
             window_readback_ = std::move(readback);
         }
     }
-    if (RenderStatus s = frames_.wait_current(); !s) return broken(s);
+    if (Status s = frames_.wait_current(); !s) return broken(s);
     std::uint32_t image = 0;
     const VkResult acquired = vkAcquireNextImageKHR(gpu_.device, swapchain_->handle(), UINT64_MAX,
                                                     frames_.acquired(), VK_NULL_HANDLE, &image);
@@ -289,8 +284,8 @@ RenderStatus Renderer::present(const ViewSettings& view, bool& presented,
         return broken(vk_failure(acquired, "vkAcquireNextImageKHR"));
     }
     const std::size_t slot = frames_.current();
-    if (RenderStatus s = uploader_.stage(gpu_, slot, scene_); !s) return s;
-    if (RenderStatus s = frames_.begin_current(); !s) return broken(s);
+    if (Status s = uploader_.stage(gpu_, slot, scene_); !s) return s;
+    if (Status s = frames_.begin_current(); !s) return broken(s);
     const VkCommandBuffer cmd = frames_.command_buffer();
     uploader_.record_copy(cmd, slot);
     swapchain_->record_begin(cmd, image, &view.background[0]);
@@ -299,7 +294,7 @@ RenderStatus Renderer::present(const ViewSettings& view, bool& presented,
     swapchain_->record_end_rendering(cmd, image);
     // A failing overlay still lets the frame finish (the acquired image must
     // be presented); its status is the call's.
-    RenderStatus overlaid = RenderStatus::ok();
+    Status overlaid = Status::ok();
     if (overlay_) {
         OverlayTarget target;
         target.cmd = cmd;
@@ -316,11 +311,11 @@ RenderStatus Renderer::present(const ViewSettings& view, bool& presented,
     if (copy) swapchain_->record_copy(cmd, image, window_readback_.handle());
     swapchain_->record_present_ready(cmd, image, copy);
     const VkSemaphore rendered = swapchain_->rendered(image);
-    if (RenderStatus s = frames_.submit_current(frames_.acquired(), rendered); !s) {
+    if (Status s = frames_.submit_current(frames_.acquired(), rendered); !s) {
         return broken(s);
     }
     if (copy) {
-        if (RenderStatus s = frames_.wait_current(); !s) return broken(s);
+        if (Status s = frames_.wait_current(); !s) return broken(s);
         std::memcpy(rgba.data(), window_readback_.mapped(), picture_bytes);
         if (swapchain_->format() == VK_FORMAT_B8G8R8A8_UNORM ||
             swapchain_->format() == VK_FORMAT_B8G8R8A8_SRGB) {
@@ -347,13 +342,11 @@ RenderStatus Renderer::present(const ViewSettings& view, bool& presented,
     return overlaid;
 }
 
-RenderStatus Renderer::record_upload(VkCommandBuffer cmd) {
+Status Renderer::record_upload(VkCommandBuffer cmd) {
     if (owns_device()) {
-        return RenderStatus(Fault::unsupported,
-                            "record_upload is for renderers on a host's device");
+        return Status(Errc::unsupported, "record_upload is for renderers on a host's device");
     }
-    if (cmd == VK_NULL_HANDLE)
-        return RenderStatus(Fault::invalid_argument, "command buffer is NULL");
+    if (cmd == VK_NULL_HANDLE) return Status(Errc::invalid_argument, "command buffer is NULL");
     host_slot_ = (host_slot_ + 1) % uploader_.slot_count();
     // The host guarantees the GPU finished what it recorded slot_count
     // uploads ago, so a buffer retired before then is no longer read.
@@ -361,26 +354,24 @@ RenderStatus Renderer::record_upload(VkCommandBuffer cmd) {
     std::erase_if(retired_indices_, [&](const RetiredBuffer& r) {
         return r.last_upload + uploader_.slot_count() <= host_uploads_;
     });
-    if (RenderStatus s = uploader_.stage(gpu_, host_slot_, scene_); !s) return s;
+    if (Status s = uploader_.stage(gpu_, host_slot_, scene_); !s) return s;
     uploader_.record_copy(cmd, host_slot_);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus Renderer::record_draw(VkCommandBuffer cmd, const ViewSettings& view,
-                                   VkExtent2D extent) {
+Status Renderer::record_draw(VkCommandBuffer cmd, const ViewSettings& view, VkExtent2D extent) {
     if (owns_device()) {
-        return RenderStatus(Fault::unsupported, "record_draw is for renderers on a host's device");
+        return Status(Errc::unsupported, "record_draw is for renderers on a host's device");
     }
-    if (cmd == VK_NULL_HANDLE)
-        return RenderStatus(Fault::invalid_argument, "command buffer is NULL");
+    if (cmd == VK_NULL_HANDLE) return Status(Errc::invalid_argument, "command buffer is NULL");
     if (extent.width == 0 || extent.height == 0) {
-        return RenderStatus(Fault::invalid_argument, "the extent must be non-empty");
+        return Status(Errc::invalid_argument, "the extent must be non-empty");
     }
     if (uploader_.mesh_vertices(host_slot_) == VK_NULL_HANDLE) {
-        return RenderStatus(Fault::invalid_argument, "record_upload must come before record_draw");
+        return Status(Errc::invalid_argument, "record_upload must come before record_draw");
     }
     record_scene_draw(cmd, pipelines_, draw_buffers(host_slot_), view, scene_.bounds(), extent);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 }  // namespace dfm::render

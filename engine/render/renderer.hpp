@@ -51,7 +51,7 @@ struct OverlayTarget {
     // images of an older one (framebuffers) is stale.
     std::uint64_t swapchain_generation = 0;
 };
-using Overlay = std::function<RenderStatus(const OverlayTarget&)>;
+using Overlay = std::function<Status(const OverlayTarget&)>;
 
 // Settings of a renderer that creates its own instance and device.
 struct OwnDeviceOptions {
@@ -81,23 +81,22 @@ public:
     Renderer& operator=(const Renderer&) = delete;
     ~Renderer();
 
-    static RenderStatus create_headless(const OwnDeviceOptions& options,
-                                        std::unique_ptr<Renderer>& out);
-    static RenderStatus create_window(const OwnDeviceOptions& options, WindowSurface window,
-                                      std::unique_ptr<Renderer>& out);
-    static RenderStatus create_host(const HostDevice& host, std::unique_ptr<Renderer>& out);
+    static Status create_headless(const OwnDeviceOptions& options, std::unique_ptr<Renderer>& out);
+    static Status create_window(const OwnDeviceOptions& options, WindowSurface window,
+                                std::unique_ptr<Renderer>& out);
+    static Status create_host(const HostDevice& host, std::unique_ptr<Renderer>& out);
 
-    RenderStatus set_mesh(const StridedPositions& positions,
-                          std::span<const std::uint32_t> triangle_indices);
-    RenderStatus set_positions(const StridedPositions& positions);
-    RenderStatus set_marks(std::span<const std::uint8_t> marks);
-    RenderStatus set_lines(std::span<const Polyline> lines);
+    Status set_mesh(const StridedPositions& positions,
+                    std::span<const std::uint32_t> triangle_indices);
+    Status set_positions(const StridedPositions& positions);
+    Status set_marks(std::span<const std::uint8_t> marks);
+    Status set_lines(std::span<const Polyline> lines);
     const SceneData& scene() const { return scene_; }
 
     // Draws a camera.width × camera.height picture offscreen. With `rgba`
     // (width × height × 4 bytes) it waits and reads the picture back; empty,
     // it returns once the frame is submitted (frames stay in flight).
-    RenderStatus render_offscreen(const ViewSettings& view, std::span<std::uint8_t> rgba);
+    Status render_offscreen(const ViewSettings& view, std::span<std::uint8_t> rgba);
 
     // Window path: draws and presents one frame at the window's framebuffer
     // size (the camera's width and height are ignored), the overlay (if set)
@@ -105,8 +104,7 @@ public:
     // or the swapchain had to be rebuilt. With `rgba` (width x height x 4
     // bytes of the window's picture) it waits for the frame and copies what
     // it presented, overlay included, into it (RGBA, rows top to bottom).
-    RenderStatus present(const ViewSettings& view, bool& presented,
-                         std::span<std::uint8_t> rgba = {});
+    Status present(const ViewSettings& view, bool& presented, std::span<std::uint8_t> rgba = {});
     // Window path: called inside every present, after the mesh's draw. An
     // empty function removes it.
     void set_overlay(Overlay overlay) { overlay_ = std::move(overlay); }
@@ -118,8 +116,8 @@ public:
     // the host's dynamic rendering of `extent`). Each record_upload moves to
     // the next of frames_in_flight buffer sets; the host guarantees the GPU
     // finished the command buffer recorded frames_in_flight uploads ago.
-    RenderStatus record_upload(VkCommandBuffer cmd);
-    RenderStatus record_draw(VkCommandBuffer cmd, const ViewSettings& view, VkExtent2D extent);
+    Status record_upload(VkCommandBuffer cmd);
+    Status record_draw(VkCommandBuffer cmd, const ViewSettings& view, VkExtent2D extent);
 
     // Validation warnings and errors seen so far (own-device modes).
     std::uint64_t validation_messages() const { return counter_->count(); }
@@ -130,12 +128,12 @@ private:
     explicit Renderer(std::size_t frames_in_flight) : uploader_(frames_in_flight) {}
 
     // `window` null: headless.
-    RenderStatus create_own(const OwnDeviceOptions& options, const WindowSurface* window);
-    RenderStatus wait_idle() const;
-    RenderStatus rebuild_swapchain(bool& usable);
-    RenderStatus check_usable() const;
+    Status create_own(const OwnDeviceOptions& options, const WindowSurface* window);
+    Status wait_idle() const;
+    Status rebuild_swapchain(bool& usable);
+    Status check_usable() const;
     // Remembers that the device failed mid-frame: later calls refuse to run.
-    RenderStatus broken(RenderStatus status);
+    Status broken(Status status);
     DrawBuffers draw_buffers(std::size_t slot) const;
 
     // Declaration order is destruction order reversed: everything made from

@@ -16,18 +16,17 @@ bool finite(const glm::dvec3& p) {
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
 }
 
-RenderStatus check_positions(const StridedPositions& p) {
+Status check_positions(const StridedPositions& p) {
     if (p.count > 0 && p.data == nullptr) {
-        return RenderStatus(Fault::invalid_argument, "positions: data is NULL");
+        return Status(Errc::invalid_argument, "positions: data is NULL");
     }
     const std::size_t triple = p.is_double ? 3 * sizeof(double) : 3 * sizeof(float);
     if (p.stride != 0 && p.stride < triple) {
-        return RenderStatus(Fault::invalid_argument, "positions: stride " +
-                                                         std::to_string(p.stride) +
-                                                         " is smaller than one xyz triple (" +
-                                                         std::to_string(triple) + " bytes)");
+        return Status(Errc::invalid_argument, "positions: stride " + std::to_string(p.stride) +
+                                                  " is smaller than one xyz triple (" +
+                                                  std::to_string(triple) + " bytes)");
     }
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 }  // namespace
@@ -45,42 +44,41 @@ glm::dvec3 StridedPositions::at(std::size_t i) const {
     return {v[0], v[1], v[2]};
 }
 
-RenderStatus SceneData::read_positions(const StridedPositions& positions) {
-    if (RenderStatus s = check_positions(positions); !s) return s;
+Status SceneData::read_positions(const StridedPositions& positions) {
+    if (Status s = check_positions(positions); !s) return s;
     std::vector<glm::dvec3> read(positions.count);
     for (std::size_t i = 0; i < positions.count; ++i) {
         read[i] = positions.at(i);
         if (!finite(read[i])) {
-            return RenderStatus(Fault::invalid_argument,
-                                "positions: vertex " + std::to_string(i) + " is not finite");
+            return Status(Errc::invalid_argument,
+                          "positions: vertex " + std::to_string(i) + " is not finite");
         }
     }
     mesh_.positions = std::move(read);
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus SceneData::set_mesh(const StridedPositions& positions,
-                                 std::span<const std::uint32_t> triangle_indices) {
+Status SceneData::set_mesh(const StridedPositions& positions,
+                           std::span<const std::uint32_t> triangle_indices) {
     if (positions.count == 0 || triangle_indices.empty()) {
-        return RenderStatus(Fault::invalid_argument, "mesh: no vertices or no triangles");
+        return Status(Errc::invalid_argument, "mesh: no vertices or no triangles");
     }
     if (triangle_indices.size() % 3 != 0) {
-        return RenderStatus(Fault::invalid_argument,
-                            "mesh: the index count is not a multiple of 3");
+        return Status(Errc::invalid_argument, "mesh: the index count is not a multiple of 3");
     }
     if (positions.count > UINT32_MAX || triangle_indices.size() > UINT32_MAX) {
-        return RenderStatus(Fault::invalid_argument, "mesh: more than 2^32 vertices or indices");
+        return Status(Errc::invalid_argument, "mesh: more than 2^32 vertices or indices");
     }
     for (std::size_t i = 0; i < triangle_indices.size(); ++i) {
         if (triangle_indices[i] >= positions.count) {
-            return RenderStatus(Fault::invalid_argument,
-                                "mesh: index " + std::to_string(i) + " names vertex " +
-                                    std::to_string(triangle_indices[i]) + ", past the " +
-                                    std::to_string(positions.count) + " vertices");
+            return Status(Errc::invalid_argument,
+                          "mesh: index " + std::to_string(i) + " names vertex " +
+                              std::to_string(triangle_indices[i]) + ", past the " +
+                              std::to_string(positions.count) + " vertices");
         }
     }
     mesh::Mesh previous = std::move(mesh_);
-    if (RenderStatus s = read_positions(positions); !s) {
+    if (Status s = read_positions(positions); !s) {
         mesh_ = std::move(previous);
         return s;
     }
@@ -90,53 +88,51 @@ RenderStatus SceneData::set_mesh(const StridedPositions& positions,
     marks_.assign(positions.count, 0);
     mesh::compute_vertex_normals(mesh_, mesh_.positions, normals_);
     update_bounds();
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus SceneData::set_positions(const StridedPositions& positions) {
-    if (!has_mesh()) return RenderStatus(Fault::invalid_argument, "positions: no mesh set");
+Status SceneData::set_positions(const StridedPositions& positions) {
+    if (!has_mesh()) return Status(Errc::invalid_argument, "positions: no mesh set");
     if (positions.count != mesh_.positions.size()) {
-        return RenderStatus(Fault::invalid_argument,
-                            "positions: " + std::to_string(positions.count) +
-                                " vertices given, the mesh has " +
-                                std::to_string(mesh_.positions.size()));
+        return Status(Errc::invalid_argument, "positions: " + std::to_string(positions.count) +
+                                                  " vertices given, the mesh has " +
+                                                  std::to_string(mesh_.positions.size()));
     }
-    if (RenderStatus s = read_positions(positions); !s) return s;
+    if (Status s = read_positions(positions); !s) return s;
     mesh::compute_vertex_normals(mesh_, mesh_.positions, normals_);
     update_bounds();
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus SceneData::set_marks(std::span<const std::uint8_t> marks) {
+Status SceneData::set_marks(std::span<const std::uint8_t> marks) {
     if (marks.empty()) {
         marks_.assign(mesh_.positions.size(), 0);
-        return RenderStatus::ok();
+        return Status::ok();
     }
     if (marks.size() != mesh_.positions.size()) {
-        return RenderStatus(Fault::invalid_argument,
-                            "marks: " + std::to_string(marks.size()) + " given, the mesh has " +
-                                std::to_string(mesh_.positions.size()) + " vertices");
+        return Status(Errc::invalid_argument,
+                      "marks: " + std::to_string(marks.size()) + " given, the mesh has " +
+                          std::to_string(mesh_.positions.size()) + " vertices");
     }
     for (std::size_t i = 0; i < marks.size(); ++i) {
         if (marks[i] > static_cast<std::uint8_t>(Mark::fixed)) {
-            return RenderStatus(Fault::invalid_argument,
-                                "marks: vertex " + std::to_string(i) + " has mark " +
-                                    std::to_string(marks[i]) + " (0 to 3 allowed)");
+            return Status(Errc::invalid_argument, "marks: vertex " + std::to_string(i) +
+                                                      " has mark " + std::to_string(marks[i]) +
+                                                      " (0 to 3 allowed)");
         }
     }
     marks_.assign(marks.begin(), marks.end());
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus SceneData::set_lines(std::span<const Polyline> lines) {
+Status SceneData::set_lines(std::span<const Polyline> lines) {
     std::vector<LineVertex> vertices;
     for (std::size_t l = 0; l < lines.size(); ++l) {
         const Polyline& line = lines[l];
         for (const glm::dvec3& p : line.points) {
             if (!finite(p)) {
-                return RenderStatus(
-                    Fault::invalid_argument,
-                    "lines: polyline " + std::to_string(l) + " has a non-finite point");
+                return Status(Errc::invalid_argument,
+                              "lines: polyline " + std::to_string(l) + " has a non-finite point");
             }
         }
         const std::size_t n = line.points.size();
@@ -154,7 +150,7 @@ RenderStatus SceneData::set_lines(std::span<const Polyline> lines) {
     }
     line_vertices_ = std::move(vertices);
     update_bounds();
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
 std::span<const std::uint32_t> SceneData::indices() const {

@@ -9,7 +9,7 @@
 #include <glm/vec4.hpp>
 
 #include "mesh/mesh.hpp"
-#include "render/render_status.hpp"
+#include "render/vulkan_result.hpp"
 
 namespace dfm::render {
 
@@ -52,13 +52,13 @@ struct Polyline {
 class SceneData {
 public:
     // Replaces the mesh; marks reset to surface, lines are kept.
-    RenderStatus set_mesh(const StridedPositions& positions,
-                          std::span<const std::uint32_t> triangle_indices);
+    Status set_mesh(const StridedPositions& positions,
+                    std::span<const std::uint32_t> triangle_indices);
     // New positions for the same vertices (count must match).
-    RenderStatus set_positions(const StridedPositions& positions);
+    Status set_positions(const StridedPositions& positions);
     // One mark per vertex (values 0..3), or empty to clear them.
-    RenderStatus set_marks(std::span<const std::uint8_t> marks);
-    RenderStatus set_lines(std::span<const Polyline> lines);
+    Status set_marks(std::span<const std::uint8_t> marks);
+    Status set_lines(std::span<const Polyline> lines);
 
     bool has_mesh() const { return !mesh_.triangles.empty(); }
     std::size_t vertex_count() const { return mesh_.positions.size(); }
@@ -74,7 +74,7 @@ public:
     void pack_vertices(MeshVertex* out) const;
 
 private:
-    RenderStatus read_positions(const StridedPositions& positions);
+    Status read_positions(const StridedPositions& positions);
     void update_bounds();
 
     mesh::Mesh mesh_;

@@ -32,28 +32,26 @@ Swapchain::~Swapchain() {
     if (swapchain_ != VK_NULL_HANDLE) vkDestroySwapchainKHR(device_, swapchain_, nullptr);
 }
 
-RenderStatus Swapchain::choose_format(const Gpu& gpu, VkSurfaceKHR surface,
-                                      VkSurfaceFormatKHR& out) {
+Status Swapchain::choose_format(const Gpu& gpu, VkSurfaceKHR surface, VkSurfaceFormatKHR& out) {
     std::uint32_t count = 0;
     vkGetPhysicalDeviceSurfaceFormatsKHR(gpu.physical, surface, &count, nullptr);
     std::vector<VkSurfaceFormatKHR> formats(count);
     vkGetPhysicalDeviceSurfaceFormatsKHR(gpu.physical, surface, &count, formats.data());
-    if (formats.empty()) return RenderStatus(Fault::device, "the window surface has no formats");
+    if (formats.empty()) return Status(Errc::device, "the window surface has no formats");
     for (VkFormat wanted : {VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM}) {
         for (const VkSurfaceFormatKHR& f : formats) {
             if (f.format == wanted && f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR) {
                 out = f;
-                return RenderStatus::ok();
+                return Status::ok();
             }
         }
     }
     out = formats.front();
-    return RenderStatus::ok();
+    return Status::ok();
 }
 
-RenderStatus Swapchain::create(const Gpu& gpu, VkSurfaceKHR surface,
-                               const AttachmentFormats& formats, VkSurfaceFormatKHR format,
-                               VkExtent2D extent, bool vsync, Swapchain& out) {
+Status Swapchain::create(const Gpu& gpu, VkSurfaceKHR surface, const AttachmentFormats& formats,
+                         VkSurfaceFormatKHR format, VkExtent2D extent, bool vsync, Swapchain& out) {
     VkSurfaceCapabilitiesKHR caps;
     if (VkResult r = vkGetPhysicalDeviceSurfaceCapabilitiesKHR(gpu.physical, surface, &caps);
         r != VK_SUCCESS) {
@@ -118,7 +116,7 @@ RenderStatus Swapchain::create(const Gpu& gpu, VkSurfaceKHR surface,
         out.rendered_.push_back(s);
     }
     if (out.multisampled_) {
-        if (RenderStatus s = GpuImage::create(
+        if (Status s = GpuImage::create(
                 gpu, extent, format.format, formats.samples,
                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
                 VK_IMAGE_ASPECT_COLOR_BIT, out.color_);
@@ -168,22 +166,7 @@ void Swapchain::record_end_rendering(VkCommandBuffer cmd, std::uint32_t image) c
 }
 
 void Swapchain::record_copy(VkCommandBuffer cmd, std::uint32_t image, VkBuffer readback) const {
-    transition_image(cmd, images_[image], VK_IMAGE_ASPECT_COLOR_BIT,
-                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                     VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-                     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                     VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {extent_.width, extent_.height, 1};
-    vkCmdCopyImageToBuffer(cmd, images_[image], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback, 1,
-                           &region);
-    VkMemoryBarrier to_host{};
-    to_host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                         &to_host, 0, nullptr, 0, nullptr);
+    copy_to_host(cmd, images_[image], extent_, readback);
 }
 
 void Swapchain::record_present_ready(VkCommandBuffer cmd, std::uint32_t image, bool copied) const {

@@ -22,14 +22,12 @@ public:
     ~Swapchain();
 
     // The surface format the pipelines must target (BGRA8/RGBA8 UNORM first).
-    static RenderStatus choose_format(const Gpu& gpu, VkSurfaceKHR surface,
-                                      VkSurfaceFormatKHR& out);
+    static Status choose_format(const Gpu& gpu, VkSurfaceKHR surface, VkSurfaceFormatKHR& out);
 
     // `extent`: the window's framebuffer size, clamped to what the surface
     // allows. `vsync`: FIFO; otherwise MAILBOX or IMMEDIATE where offered.
-    static RenderStatus create(const Gpu& gpu, VkSurfaceKHR surface,
-                               const AttachmentFormats& formats, VkSurfaceFormatKHR format,
-                               VkExtent2D extent, bool vsync, Swapchain& out);
+    static Status create(const Gpu& gpu, VkSurfaceKHR surface, const AttachmentFormats& formats,
+                         VkSurfaceFormatKHR format, VkExtent2D extent, bool vsync, Swapchain& out);
 
     VkSwapchainKHR handle() const { return swapchain_; }
     VkExtent2D extent() const { return extent_; }

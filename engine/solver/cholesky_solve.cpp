@@ -46,13 +46,10 @@ void pull_updates(const CholeskySymbolic& sym, std::span<const double> values, s
 // below it in memory, and reads each one's values ascending, so the
 // hardware prefetcher, which follows a stream within a page, starts over
 // at many supernodes: the kernel fetches the next one's values (up to this
-// many bytes) while it works on this one (in descending order, the 104k
-// solve 7% faster with the first page fetched at once; four pages spread
-// over the rows took its backward pass from 10.8-11.1 to 9.5-9.7 ms; 64
-// KiB was slower). Children in ascending order (backward_order) take the
-// small supernodes near the leaves mostly upwards, where the prefetcher
-// follows: in the 104k solve those of 1-8 columns 2.6 -> 1.5 ms, wider ones
-// up to 0.5 ms slower, the backward pass 9.2-9.5 -> 8.6-9.3 ms.
+// many bytes, spread over its rows; more was no better) while it works on
+// this one. Children in ascending order (backward_order) take the small
+// supernodes near the leaves mostly upwards, where the prefetcher follows;
+// the narrow supernodes gain more from that than the wide ones lose.
 constexpr std::size_t backward_prefetch_bytes = 16384;
 
 // Lᵀ y = y over one supernode: its rows below, then its diagonal block.
@@ -87,11 +84,6 @@ void backward_in_order(const CholeskySymbolic& sym, std::span<const double> valu
                            i + 1 < count ? order[i + 1] : no_next);
 }
 
-// Fewer unknowns than this are solved by one thread: below it, waking the
-// others costs more than their share of the work (a camel leg's drag frame
-// took 0.34 ms on two workers against 0.24 on one).
-constexpr std::size_t parallel_solve_minimum = 8192;
-
 }  // namespace
 
 std::size_t SparseCholesky::solve_work_size(std::size_t k, std::size_t threads) const {
@@ -110,7 +102,7 @@ void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::
         for (std::size_t c = 0; c < k; ++c) y[i * k + c] = from[c];
     }
     const std::size_t threads = pool != nullptr ? pool->thread_count() : 1;
-    const bool split = threads > 1 && n >= parallel_solve_minimum &&
+    const bool split = threads > 1 && n >= jobs::parallel_minimum &&
                        schedule_.subtrees.size() == threads &&
                        work.size() >= solve_work_size(k, threads);
     if (split) {

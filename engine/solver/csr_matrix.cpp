@@ -16,19 +16,6 @@ void CsrMatrix::multiply(std::span<const double> x, std::span<double> y, std::si
     }
 }
 
-void CsrMatrix::multiply_transposed(std::span<const double> x, std::span<double> y,
-                                    std::size_t k) const {
-    std::fill(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(cols * k), 0.0);
-    for (std::size_t i = 0; i < rows; ++i) {
-        const double* xi = &x[i * k];
-        for (std::size_t p = row_offsets[i]; p < row_offsets[i + 1]; ++p) {
-            const double a = values[p];
-            double* yj = &y[col_indices[p] * k];
-            for (std::size_t c = 0; c < k; ++c) yj[c] += a * xi[c];
-        }
-    }
-}
-
 std::vector<double> CsrMatrix::diagonal() const {
     std::vector<double> d(std::min(rows, cols), 0.0);
     for (std::size_t i = 0; i < d.size(); ++i) {

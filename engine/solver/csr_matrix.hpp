@@ -30,10 +30,6 @@ struct CsrMatrix {
     // c. One pass over the matrix serves all k.
     void multiply(std::span<const double> x, std::span<double> y, std::size_t k = 1) const;
 
-    // y = Aᵀ x, same layout.
-    void multiply_transposed(std::span<const double> x, std::span<double> y,
-                             std::size_t k = 1) const;
-
     // The diagonal entries (0 where a row stores none).
     std::vector<double> diagonal() const;
 };

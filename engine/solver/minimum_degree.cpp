@@ -26,8 +26,7 @@ constexpr Index flip(Index j) {
 // Number n is an extra element that collects dense rows, ordered last.
 // Positions and numbers are kept in the signed type Index, 32-bit where
 // the lists fit: the elimination waits on memory, and halving its working
-// set takes a third off its time (79–82 against 113–117 ms at 104k
-// vertices, solver_bench, interleaved).
+// set shortens it accordingly.
 template <class Index>
 class MinimumDegree {
 public:
@@ -39,9 +38,8 @@ public:
         return memory_size(n, edges) < static_cast<std::size_t>(std::numeric_limits<Index>::max());
     }
 
-    MinimumDegree(const SymmetricGraph& graph, std::span<const std::uint32_t> constraints)
+    explicit MinimumDegree(const SymmetricGraph& graph)
         : n_(static_cast<Index>(graph.size())),
-          constraints_(constraints),
           node_(static_cast<std::size_t>(n_) + 1, Node{}),
           head_(static_cast<std::size_t>(n_) + 1, none),
           hash_head_(static_cast<std::size_t>(n_) + 1, none) {
@@ -57,19 +55,6 @@ public:
         dense_ = std::min(
             n_ - 2,
             std::max<Index>(16, static_cast<Index>(10.0 * std::sqrt(static_cast<double>(n_)))));
-        if (!constraints_.empty()) {
-            // The variables of each constraint set, in CSR form.
-            std::uint32_t sets = 0;
-            for (const std::uint32_t c : constraints_) sets = std::max(sets, c + 1);
-            set_begin_.assign(sets + 1, 0);
-            for (const std::uint32_t c : constraints_) ++set_begin_[c + 1];
-            for (std::uint32_t c = 0; c < sets; ++c) set_begin_[c + 1] += set_begin_[c];
-            set_members_.resize(constraints_.size());
-            std::vector<std::size_t> fill(set_begin_.begin(), set_begin_.end() - 1);
-            for (std::size_t i = 0; i < constraints_.size(); ++i)
-                set_members_[fill[constraints_[i]]++] = static_cast<Index>(i);
-            while (current_set_ + 1 < sets && set_begin_[current_set_ + 1] == 0) ++current_set_;
-        }
     }
 
     std::vector<std::uint32_t> run() {
@@ -91,7 +76,7 @@ public:
                 ++eliminated_;
                 node_[at(i)].pointer = flip(n_);
                 ++node_[at(n_)].size;
-            } else if (selectable(i)) {
+            } else {
                 insert_degree_list(i, d);
             }
         }
@@ -106,32 +91,6 @@ private:
     }
 
     static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
-
-    // Only the variables of the current constraint set may be pivots; the
-    // degree lists hold just those.
-    bool selectable(Index i) const {
-        return constraints_.empty() || constraints_[at(i)] == current_set_;
-    }
-
-    bool same_set(Index i, Index j) const {
-        return constraints_.empty() || constraints_[at(i)] == constraints_[at(j)];
-    }
-
-    // Moves on to the next constraint set that still has live variables and
-    // puts those in the degree lists.
-    void open_next_set() {
-        const std::uint32_t sets = static_cast<std::uint32_t>(set_begin_.size() - 1);
-        min_degree_ = n_;
-        while (min_degree_ == n_ && current_set_ + 1 < sets) {
-            ++current_set_;
-            for (std::size_t p = set_begin_[current_set_]; p < set_begin_[current_set_ + 1]; ++p) {
-                const Index i = set_members_[p];
-                if (node_[at(i)].size <= 0 || node_[at(i)].elements < 0) continue;
-                insert_degree_list(i, node_[at(i)].degree);
-                min_degree_ = std::min(min_degree_, node_[at(i)].degree);
-            }
-        }
-    }
 
     void insert_degree_list(Index i, Index d) {
         if (head_[at(d)] != none) node_[at(head_[at(d)])].last = i;
@@ -164,11 +123,7 @@ private:
 
     Index select_pivot() {
         Index k = none;
-        while (min_degree_ < n_ && (k = head_[at(min_degree_)]) == none) ++min_degree_;
-        if (k == none) {
-            open_next_set();
-            while ((k = head_[at(min_degree_)]) == none) ++min_degree_;
-        }
+        while ((k = head_[at(min_degree_)]) == none) ++min_degree_;
         if (node_[at(k)].next != none) node_[at(node_[at(k)].next)].last = none;
         head_[at(min_degree_)] = node_[at(k)].next;
         return k;
@@ -227,7 +182,7 @@ private:
                 degree_k += size_i;
                 node_[at(i)].size = -size_i;
                 memory_[at(lk_end++)] = i;
-                if (selectable(i)) remove_degree_list(i);
+                remove_degree_list(i);
             }
             if (e != k) {
                 node_[at(e)].pointer = flip(k);
@@ -293,7 +248,7 @@ private:
                 memory_[at(pn++)] = j;
                 hash += static_cast<std::uint64_t>(j);
             }
-            if (d == 0 && same_set(i, k)) {
+            if (d == 0) {
                 node_[at(i)].pointer = flip(k);
                 const Index size_i = -node_[at(i)].size;
                 degree_k -= size_i;
@@ -331,10 +286,8 @@ private:
             Index d = node_[at(i)].degree + degree_k - size_i;
             d = std::min(d, n_ - eliminated_ - size_i);
             node_[at(i)].degree = d;
-            if (selectable(i)) {
-                insert_degree_list(i, d);
-                min_degree_ = std::min(min_degree_, d);
-            }
+            insert_degree_list(i, d);
+            min_degree_ = std::min(min_degree_, d);
             memory_[at(write++)] = i;
         }
         node_[at(k)].size = k_size;
@@ -362,8 +315,7 @@ private:
                     node_[at(memory_[at(q)])].stamp = mark_;
                 Index j_last = i;
                 for (Index j = node_[at(i)].next; j != none;) {
-                    bool same = node_[at(j)].length == len && node_[at(j)].elements == elen &&
-                                same_set(i, j);
+                    bool same = node_[at(j)].length == len && node_[at(j)].elements == elen;
                     for (Index q = node_[at(j)].pointer + 1;
                          same && q <= node_[at(j)].pointer + len - 1; ++q)
                         same = node_[at(memory_[at(q)])].stamp == mark_;
@@ -420,14 +372,9 @@ private:
     }
 
     Index n_;
-    std::span<const std::uint32_t> constraints_;
-    PooledVector<std::size_t> set_begin_;
-    PooledVector<Index> set_members_;
-    std::uint32_t current_set_ = 0;
     // A node's (a variable's or an element's) fields side by side: a step
     // reads and writes several of them for the same node, which then share
-    // a cache line where eight arrays took one each (at 104k vertices the
-    // ordering took 75-90 ms with the arrays, 66-70 with the nodes).
+    // a cache line where eight arrays took one each.
     struct Node {
         Index pointer = 0;
         Index length = 0;
@@ -452,16 +399,14 @@ private:
 
 }  // namespace
 
-std::vector<std::uint32_t> minimum_degree_ordering(const SymmetricGraph& graph,
-                                                   std::span<const std::uint32_t> constraints) {
+std::vector<std::uint32_t> minimum_degree_ordering(const SymmetricGraph& graph) {
     if (MinimumDegree<std::int32_t>::fits(graph.size(), graph.neighbors.size()))
-        return MinimumDegree<std::int32_t>(graph, constraints).run();
-    return minimum_degree_ordering_64(graph, constraints);
+        return MinimumDegree<std::int32_t>(graph).run();
+    return minimum_degree_ordering_64(graph);
 }
 
-std::vector<std::uint32_t> minimum_degree_ordering_64(const SymmetricGraph& graph,
-                                                      std::span<const std::uint32_t> constraints) {
-    return MinimumDegree<std::int64_t>(graph, constraints).run();
+std::vector<std::uint32_t> minimum_degree_ordering_64(const SymmetricGraph& graph) {
+    return MinimumDegree<std::int64_t>(graph).run();
 }
 
 }  // namespace dfm::solver

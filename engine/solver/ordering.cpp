@@ -7,7 +7,6 @@ namespace dfm::solver {
 const char* ordering_method_name(OrderingMethod method) {
     switch (method) {
         case OrderingMethod::identity: return "identity";
-        case OrderingMethod::nested_dissection: return "nested dissection";
         case OrderingMethod::minimum_degree: return "minimum degree";
     }
     return "unknown";
@@ -28,7 +27,6 @@ std::vector<std::uint32_t> fill_reducing_ordering(const SymmetricGraph& graph,
                                                   OrderingMethod method) {
     switch (method) {
         case OrderingMethod::identity: break;
-        case OrderingMethod::nested_dissection: return nested_dissection_ordering(graph);
         case OrderingMethod::minimum_degree: return minimum_degree_ordering(graph);
     }
     return identity_ordering(graph.size());

@@ -8,12 +8,8 @@
 
 namespace dfm::solver {
 
-PbcgWorkspace::PbcgWorkspace(std::size_t n, std::size_t k, bool general)
-    : n_(n), k_(k), general_(general) {
+PbcgWorkspace::PbcgWorkspace(std::size_t n, std::size_t k) : n_(n), k_(k) {
     for (std::vector<double>* v : {&r_, &z_, &p_, &q_}) v->assign(n * k, 0.0);
-    if (general)
-        for (std::vector<double>* v : {&shadow_r_, &shadow_z_, &shadow_p_, &shadow_q_})
-            v->assign(n * k, 0.0);
     partial_.assign(kernels::block_count(n) * k, 0.0);
     for (std::vector<double>* v : {&rho_, &rho_old_, &pq_, &error_, &b_norm_, &best_})
         v->assign(k, 0.0);
@@ -35,13 +31,10 @@ void residual(const CsrMatrix& a, std::span<const double> b, std::span<const dou
 }
 
 // The vectors and per-column scalars of one solve, views into the
-// workspace. The shadow sequence has its own vectors in general and is the
-// primal one when A and M are symmetric.
+// workspace.
 struct Iterate {
     std::size_t n, k;
-    bool general;
     std::span<double> r, z, p, q;
-    std::span<double> rs, zs, ps, qs;
     std::span<double> partial, rho, rho_old, pq, error, b_norm, best;
     std::span<std::size_t> stalled;
     unsigned char* active;
@@ -68,9 +61,6 @@ Status check_arguments(const CsrMatrix& a, const Preconditioner& m, std::span<co
         return {Errc::invalid_argument,
                 "PBCG: the workspace is sized for n = " + std::to_string(work.size()) +
                     ", k = " + std::to_string(work.columns())};
-    if (!options.symmetric && !work.general())
-        return {Errc::invalid_argument,
-                "PBCG: the general algorithm needs a workspace made with general = true"};
     if (m.size() != n)
         return {Errc::invalid_argument, std::string("PBCG: the ") + m.name() +
                                             " preconditioner is not set up for this matrix"};
@@ -79,12 +69,11 @@ Status check_arguments(const CsrMatrix& a, const Preconditioner& m, std::span<co
     return Status::ok();
 }
 
-// z = M⁻¹ r (and the shadow's), the error estimate max |z| and ρ = z̃ᵀ r.
+// z = M⁻¹ r, the error estimate max |z| and ρ = zᵀ r.
 void precondition(Preconditioner& m, Iterate& it, jobs::WorkerPool* pool) {
     m.apply(it.r, it.z, it.k);
-    if (it.general) m.apply_transposed(it.rs, it.zs, it.k);
     kernels::max_abs(it.z, it.n, it.k, it.error, it.partial, pool);
-    kernels::dot(it.zs, it.r, it.n, it.k, it.rho, it.partial, pool);
+    kernels::dot(it.z, it.r, it.n, it.k, it.rho, it.partial, pool);
 }
 
 // p = z + β p (p = z on the first iteration) for every running column;
@@ -102,22 +91,17 @@ void update_directions(Iterate& it, bool first, PbcgResult& result) {
         const double beta = first ? 0.0 : it.rho[c] / it.rho_old[c];
         for (std::size_t i = 0; i < n; ++i)
             it.p[i * k + c] = first ? it.z[i * k + c] : it.z[i * k + c] + beta * it.p[i * k + c];
-        if (it.general)
-            for (std::size_t i = 0; i < n; ++i)
-                it.ps[i * k + c] =
-                    first ? it.zs[i * k + c] : it.zs[i * k + c] + beta * it.ps[i * k + c];
     }
 }
 
-// q = A p, α = ρ / p̃ᵀ q and x += α p for every running column (the shadow
-// residual steps by −α q̃); a column whose p̃ᵀ q vanished breaks down.
+// q = A p, α = ρ / pᵀ q and x += α p for every running column; a column
+// whose pᵀ q vanished breaks down.
 void step_solution(const CsrMatrix& a, std::span<double> x, Iterate& it, jobs::WorkerPool* pool,
                    PbcgResult& result) {
     const std::size_t n = it.n;
     const std::size_t k = it.k;
     kernels::multiply(a, it.p, it.q, k, pool);
-    if (it.general) a.multiply_transposed(it.ps, it.qs, k);
-    kernels::dot(it.ps, it.q, n, k, it.pq, it.partial, pool);
+    kernels::dot(it.p, it.q, n, k, it.pq, it.partial, pool);
     for (std::size_t c = 0; c < k; ++c) {
         if (!it.active[c]) continue;
         const double alpha = it.rho[c] / it.pq[c];
@@ -127,8 +111,6 @@ void step_solution(const CsrMatrix& a, std::span<double> x, Iterate& it, jobs::W
             continue;
         }
         for (std::size_t i = 0; i < n; ++i) x[i * k + c] += alpha * it.p[i * k + c];
-        if (it.general)
-            for (std::size_t i = 0; i < n; ++i) it.rs[i * k + c] -= alpha * it.qs[i * k + c];
         ++result.columns[c].iterations;
     }
 }
@@ -184,20 +166,14 @@ Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double>
     const std::size_t stagnation_limit = options.stagnation_limit != 0 ? options.stagnation_limit
                                          : m.is_exact()                ? exact_stagnation_limit
                                                                        : 0;
-    const bool general = !options.symmetric;
     const auto vector = [&](std::vector<double>& v) { return std::span(v.data(), n * k); };
     const auto scalars = [&](std::vector<double>& v) { return std::span(v.data(), k); };
     Iterate it{.n = n,
                .k = k,
-               .general = general,
                .r = vector(work.r_),
                .z = vector(work.z_),
                .p = vector(work.p_),
                .q = vector(work.q_),
-               .rs = general ? vector(work.shadow_r_) : vector(work.r_),
-               .zs = general ? vector(work.shadow_z_) : vector(work.z_),
-               .ps = general ? vector(work.shadow_p_) : vector(work.p_),
-               .qs = general ? vector(work.shadow_q_) : vector(work.q_),
                .partial = work.partial_,
                .rho = scalars(work.rho_),
                .rho_old = scalars(work.rho_old_),
@@ -216,7 +192,6 @@ Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double>
     // A warm start is judged on its true error: the first residual comes
     // from x, as every later one does.
     residual(a, b, x, it.r, k, pool);
-    if (general) std::copy(it.r.begin(), it.r.end(), it.rs.begin());
     kernels::max_abs(it.r, n, k, it.best, it.partial, pool);
     for (std::size_t c = 0; c < k; ++c) result.columns[c].start_residual = it.best[c];
     precondition(m, it, pool);

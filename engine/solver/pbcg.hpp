@@ -28,10 +28,6 @@ struct PbcgOptions {
     // allows for the system; never otherwise, since weak preconditioners'
     // estimates can stall for hundreds of iterations and still converge.
     std::size_t stagnation_limit = 0;
-    // A and M symmetric (A positive definite): the shadow sequence equals the
-    // primal one, so solve by preconditioned conjugate gradients with half
-    // the work. Off: the general bi-conjugate gradient, with Aᵀ and M⁻ᵀ.
-    bool symmetric = true;
     // Spreads the vector work and products with A over its threads (not
     // owned; null runs inline). Results are the same bits either way.
     jobs::WorkerPool* pool = nullptr;
@@ -57,19 +53,17 @@ struct PbcgResult {
 };
 
 // Work vectors for systems of n unknowns with up to k right-hand sides,
-// allocated once so that solves allocate nothing. The general (non-symmetric)
-// algorithm needs `general` for its shadow vectors.
+// allocated once so that solves allocate nothing.
 class PbcgWorkspace {
 public:
     PbcgWorkspace() = default;
-    PbcgWorkspace(std::size_t n, std::size_t k, bool general = false);
+    PbcgWorkspace(std::size_t n, std::size_t k);
 
     std::size_t size() const { return n_; }
     std::size_t columns() const { return k_; }
-    bool general() const { return general_; }
     std::size_t memory_bytes() const {
-        return capacity_bytes(r_, z_, p_, q_, shadow_r_, shadow_z_, shadow_p_, shadow_q_, partial_,
-                              rho_, rho_old_, pq_, error_, b_norm_, best_, stalled_, active_);
+        return capacity_bytes(r_, z_, p_, q_, partial_, rho_, rho_old_, pq_, error_, b_norm_, best_,
+                              stalled_, active_);
     }
 
 private:
@@ -79,9 +73,7 @@ private:
 
     std::size_t n_ = 0;
     std::size_t k_ = 0;
-    bool general_ = false;
     std::vector<double> r_, z_, p_, q_;
-    std::vector<double> shadow_r_, shadow_z_, shadow_p_, shadow_q_;
     std::vector<double> partial_;
     std::vector<double> rho_, rho_old_, pq_, error_, b_norm_, best_;
     std::vector<std::size_t> stalled_;
@@ -90,14 +82,16 @@ private:
 
 // Solves A x = b for k interleaved right-hand sides (b[j * k + c] is entry j
 // of column c) by the preconditioned bi-conjugate gradient, starting from
-// the x passed in (warm start). All k columns share each pass over A and
-// each application of M; every column keeps its own scalars and stops
-// updating once converged or broken down. Stops when every column has
-// stopped or at options.max_iterations. M must be set up for A (and
-// symmetric when options.symmetric is set). Fails only on bad arguments
-// (sizes, M not set up for a matrix of A's order, a workspace too small or
-// without shadow vectors for the general algorithm, a tolerance that is
-// negative or NaN); a solve that does not converge is reported in `result`.
+// the x passed in (warm start). A and M must be symmetric, A positive
+// definite, as the edit's normal matrix and every preconditioner here are:
+// the shadow sequence then equals the primal one, and the method is
+// preconditioned conjugate gradients at half the work. All k columns share
+// each pass over A and each application of M; every column keeps its own
+// scalars and stops updating once converged or broken down. Stops when
+// every column has stopped or at options.max_iterations. M must be set up
+// for A. Fails only on bad arguments (sizes, M not set up for a matrix of
+// A's order, a workspace too small, a tolerance that is negative or NaN);
+// a solve that does not converge is reported in `result`.
 // Allocates nothing once `result` has held k columns and M has been reserved
 // for k. Not thread-safe for a shared workspace, preconditioner or result.
 Status pbcg_solve(const CsrMatrix& a, Preconditioner& m, std::span<const double> b,

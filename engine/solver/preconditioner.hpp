@@ -28,19 +28,13 @@ public:
     // square or M cannot be built from it; the status says why.
     virtual Status setup(const CsrMatrix& a) = 0;
 
-    // Makes room so that apply and apply_transposed allocate nothing for up
-    // to k vectors. A solver calls it before its iteration loop.
+    // Makes room so that apply allocates nothing for up to k vectors. A
+    // solver calls it before its iteration loop.
     virtual void reserve(std::size_t k) { (void)k; }
 
     // z = M⁻¹ r for k interleaved vectors; r and z must not overlap. Requires
     // a successful setup.
     virtual void apply(std::span<const double> r, std::span<double> z, std::size_t k) = 0;
-
-    // z = M⁻ᵀ r, for the shadow sequence of the general bi-conjugate
-    // gradient. The default, apply, is right for a symmetric M.
-    virtual void apply_transposed(std::span<const double> r, std::span<double> z, std::size_t k) {
-        apply(r, z, k);
-    }
 
     virtual const char* name() const = 0;
 

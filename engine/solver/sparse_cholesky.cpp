@@ -21,11 +21,6 @@ constexpr std::uint32_t no_failure = std::numeric_limits<std::uint32_t>::max();
 // estimated work on; below it, waking the threads costs more than it saves.
 constexpr double split_work = 2e5;
 
-// Fewer unknowns than this are factored by one thread: below it, waking
-// the others costs more than their share (measured on the limbs of issue
-// 12, up to the elephant's trunk of 5,972 unknowns).
-constexpr std::size_t parallel_factor_minimum = 8192;
-
 // Each supernode is assembled and factored column by column in a thread's
 // scratch (its `front`), then written to the factor once, laid out for the
 // solves; its ancestors' updates read it there.
@@ -372,7 +367,7 @@ Status SparseCholesky::factorize(const CsrMatrix& a, jobs::WorkerPool* pool) {
     const auto start = std::chrono::steady_clock::now();
     const CholeskySymbolic& sym = symbolic_;
     const std::size_t threads =
-        pool != nullptr && sym.n >= parallel_factor_minimum ? pool->thread_count() : 1;
+        pool != nullptr && sym.n >= jobs::parallel_minimum ? pool->thread_count() : 1;
     values_.resize(sym.stored_values);
     FirstFailure failure;
     {

@@ -59,7 +59,7 @@ template <std::size_t K>
 // −0 in the others: added to a sum, −0 changes no lane, not even a −0.
 // Each lane is named by a constant, so that the sums stay in registers
 // (indexed at run time, they went through the stack, and the forward
-// solve waited on those stores: 5–10% of the whole solve at 104k).
+// solve waited on those stores).
 [[gnu::always_inline]] inline void tail_products(std::size_t count, const double* a,
                                                  const double* b, Doubles4& out) {
     switch (count) {
@@ -144,11 +144,10 @@ template <class V, std::size_t C>
 // Lines fetched a few at a time as the rows below are pulled. The backward
 // solve takes each supernode before its children, which lie below it in
 // memory, where the hardware prefetcher does not follow; fetched all at
-// once before a supernode (the solve then in descending order), the next
-// one's lines queued behind each other, and the 104k solve's supernodes of
-// 9-16 columns took 2.4 ms in the backward pass against 1.6 in the forward
-// one (1.6-1.7 spread over the rows). Kept as offsets, so that no pointer
-// is formed past the bytes given.
+// once before a supernode, the next one's lines queued behind each other
+// and the narrow supernodes' backward pass fell well behind the forward
+// one, which spreading the fetches over the rows closes. Kept as offsets,
+// so that no pointer is formed past the bytes given.
 class Ahead {
 public:
     Ahead(const char* begin, std::size_t bytes, std::size_t rows)
@@ -213,13 +212,13 @@ template <class V, std::size_t K, std::size_t C>
 // rows are taken one after the other, each whole, into two arrays of sums
 // after s in the scratch: L streams in order. (Taken a few columns at a
 // time over all rows, it was read with a stride of w doubles, which the
-// processor does not prefetch over so few rows: 1.5–2× slower.)
+// processor does not prefetch over so few rows.)
 // Supernodes of up to `max_chunks` chunks of four columns keep the sums in
 // registers (16 columns where the kernels have 32 vector registers, 8 where
 // they have 16: more spilled and were slower). With `eight_lanes`, those of
-// 17 to 32 columns keep them in vectors of eight (24 of the 32 registers):
-// the 104k solve's supernodes of 17-64 columns 2.7-2.9 -> 2.2-2.3 ms in the
-// backward pass. Supernodes of 5-16 columns were slower in vectors of eight.
+// 17 to 32 columns keep them in vectors of eight (24 of the 32 registers),
+// which shortens the backward pass for them; supernodes of 5-16 columns
+// were slower in vectors of eight.
 template <std::size_t K, std::size_t max_chunks, bool eight_lanes>
 [[gnu::always_inline]] inline void pull_rows(std::size_t h, std::size_t w, std::size_t k,
                                              const double* below, const std::uint32_t* rows,
@@ -310,10 +309,9 @@ template <std::size_t K>
 // The backward solve reads the diagonal block's columns in descending
 // order, one stretch ascending each, which the hardware prefetcher does not
 // follow from one column to the one before it: in a wide block, the column
-// two ahead is fetched while this one is worked on (the 104k solve's
-// supernodes of more than 64 columns 2.9-3.2 -> 2.6-2.7 ms in the backward
-// pass). A block of 16 columns is 2 KiB, which comes in with the supernode's
-// first lines, fetched while the supernode before it was solved.
+// two ahead is fetched while this one is worked on. A block of 16 columns
+// is 2 KiB, which comes in with the supernode's first lines, fetched while
+// the supernode before it was solved.
 constexpr std::size_t prefetch_columns_wider_than = 16;
 constexpr std::size_t prefetch_columns_ahead = 2;
 

@@ -12,7 +12,25 @@
 
 namespace dfm::sdk {
 
-dfm_result to_result(Errc code);
+// The C API's code for an engine error category (one-to-one but for ok).
+inline dfm_result to_result(Errc code) {
+    switch (code) {
+        case Errc::ok: return DFM_OK;
+        case Errc::invalid_argument: return DFM_ERROR_INVALID_ARGUMENT;
+        case Errc::not_found: return DFM_ERROR_NOT_FOUND;
+        case Errc::io_error: return DFM_ERROR_IO;
+        case Errc::parse_error: return DFM_ERROR_PARSE;
+        case Errc::out_of_range: return DFM_ERROR_OUT_OF_RANGE;
+        case Errc::unsupported: return DFM_ERROR_UNSUPPORTED;
+        case Errc::out_of_memory: return DFM_ERROR_OUT_OF_MEMORY;
+        case Errc::numerical: return DFM_ERROR_NUMERICAL;
+        case Errc::internal: return DFM_ERROR_INTERNAL;
+        case Errc::cancelled: return DFM_ERROR_CANCELLED;
+        case Errc::device: return DFM_ERROR_DEVICE;
+        case Errc::busy: return DFM_ERROR_BUSY;
+    }
+    return DFM_ERROR_INTERNAL;
+}
 
 // Records a failing engine status under the C function's name; DFM_OK passes.
 inline dfm_result report(const char* function, const Status& status) {

@@ -143,6 +143,7 @@ extern "C" DFM_API dfm_result dfm_context_create(const dfm_context_desc* desc, d
         state->log_user = d.log_user;
         state->pick_thread_count = d.pick_thread_count;
         if (d.models_directory != nullptr) state->models_directory = d.models_directory;
+        if (d.reference_folder != nullptr) state->reference_folder = d.reference_folder;
         state->job_system = d.job_system;
         work.host = {&enqueue_on_host, &state->job_system};
         try {

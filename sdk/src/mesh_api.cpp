@@ -1,4 +1,5 @@
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -32,35 +33,65 @@ dfm_result make_mesh_handle(const ContextState& context,
     return DFM_OK;
 }
 
-dfm_result load_mesh_file(const char* function, ContextObject& context, const char* path,
-                          mesh::LoadReport& load_report, dfm_mesh** out) {
-    std::filesystem::path file;
-    const std::string& models = context.state->models_directory;
-    if (Status s = mesh::resolve_mesh_spec(path, std::filesystem::current_path(), models, file);
-        !s) {
-        if (models.empty() && s.code() == Errc::not_found) {
-            return report(function, DFM_ERROR_NOT_FOUND,
-                          s.message() + " (set dfm_context_desc.models_directory)");
-        }
-        return report(function, s);
-    }
-    mesh::Mesh m;
-    mesh::HostMesh host;
-    if (Status s = mesh::load_host_mesh(file, m, host, &load_report); !s) {
-        return report(function, s);
-    }
-    for (const std::string& warning : load_report.warnings) {
-        context.state->emit(DFM_LOG_WARNING, DFM_LOG_ID_LOAD_WARNING, warning);
-    }
-    if (m.vertex_count() == 0 || m.face_count() == 0) {
-        return report(function, DFM_ERROR_PARSE, file.string() + ": the mesh has no triangles");
-    }
-    return make_mesh_handle(*context.state, context.state, std::move(m), out, std::move(host));
-}
-
 }  // namespace dfm::sdk
 
 namespace {
+
+// dfm_mesh_load and dfm_mesh_load_with_report: the calls' one opening, then
+// the load (model:NAME through the context's models folder, the loader's
+// warnings logged). `report_out` is written when `with_report`, where NULL
+// is refused.
+dfm_result load_mesh_call(const char* fn, dfm_context* context, const char* path, bool with_report,
+                          dfm_load_report* report_out, dfm_mesh** out) {
+    return guarded(fn, [&] {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = nullptr;
+        if (with_report) {
+            if (report_out == nullptr) {
+                return report(fn, DFM_ERROR_INVALID_ARGUMENT, "report is NULL");
+            }
+            *report_out = dfm_load_report{};
+        }
+        ContextObject* c = resolve_context(context);
+        if (c == nullptr) return bad_handle(fn, "context", context);
+        if (path == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path is NULL");
+        std::filesystem::path file;
+        const std::string& models = c->state->models_directory;
+        if (Status s = mesh::resolve_mesh_spec(path, std::filesystem::current_path(), models, file);
+            !s) {
+            if (models.empty() && s.code() == Errc::not_found) {
+                return report(fn, DFM_ERROR_NOT_FOUND,
+                              s.message() + " (set dfm_context_desc.models_directory)");
+            }
+            return report(fn, s);
+        }
+        mesh::Mesh m;
+        mesh::HostMesh host;
+        mesh::LoadReport load_report;
+        if (Status s =
+                mesh::load_host_mesh(file, m, host, &load_report, c->state->reference_folder);
+            !s) {
+            return report(fn, s);
+        }
+        for (const std::string& warning : load_report.warnings) {
+            c->state->emit(DFM_LOG_WARNING, DFM_LOG_ID_LOAD_WARNING, warning);
+        }
+        if (m.vertex_count() == 0 || m.face_count() == 0) {
+            return report(fn, DFM_ERROR_PARSE, file.string() + ": the mesh has no triangles");
+        }
+        if (dfm_result r =
+                make_mesh_handle(*c->state, c->state, std::move(m), out, std::move(host));
+            r != DFM_OK) {
+            return r;
+        }
+        if (with_report) {
+            report_out->polygons = load_report.polygons;
+            report_out->triangulated_polygons = load_report.triangulated_polygons;
+            report_out->dropped_faces = load_report.dropped_faces;
+        }
+        return DFM_OK;
+    });
+}
 
 Status check_triangles(const mesh::Mesh& m) {
     const std::size_t n = m.vertex_count();
@@ -204,29 +235,68 @@ extern "C" DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_me
 
 extern "C" DFM_API dfm_result dfm_mesh_load(dfm_context* context, const char* path,
                                             dfm_mesh** out) {
-    constexpr const char* fn = "dfm_mesh_load";
-    return guarded(fn, [&] {
-        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
-        *out = nullptr;
-        ContextObject* c = resolve_context(context);
-        if (c == nullptr) return bad_handle(fn, "context", context);
-        if (path == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path is NULL");
-        mesh::LoadReport load_report;
-        return load_mesh_file(fn, *c, path, load_report, out);
-    });
+    return load_mesh_call("dfm_mesh_load", context, path, false, nullptr, out);
 }
 
-extern "C" DFM_API dfm_result dfm_mesh_save(const dfm_mesh* mesh, const char* path) {
-    constexpr const char* fn = "dfm_mesh_save";
+extern "C" DFM_API dfm_result dfm_mesh_load_with_report(dfm_context* context, const char* path,
+                                                        dfm_load_report* report_out,
+                                                        dfm_mesh** out) {
+    return load_mesh_call("dfm_mesh_load_with_report", context, path, true, report_out, out);
+}
+
+namespace {
+
+constexpr std::size_t save_options_0_2 = DFM_END_OF(dfm_save_options, obj_normals);
+
+// dfm_mesh_save and dfm_mesh_save_with_options (`options` NULL: the defaults).
+dfm_result save_mesh_call(const char* fn, const dfm_mesh* mesh, const char* path,
+                          const dfm_save_options* options) {
     return guarded(fn, [&] {
         MeshObject* m = resolve_mesh(mesh);
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
         if (path == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path is NULL");
-        return guarded(fn, [&] {
-            return report(fn,
-                          mesh::save_host_mesh(path, m->state->current()->mesh, m->state->host));
-        });
+        mesh::WriteOptions write;
+        if (options != nullptr) {
+            dfm_save_options o;
+            if (dfm_result r = read_descriptor(fn, "options", options, save_options_0_2, o);
+                r != DFM_OK) {
+                return r;
+            }
+            // Read as an integer: a host's out-of-range value is not an enum load.
+            int encoding = 0;
+            static_assert(sizeof(encoding) == sizeof(o.ply_encoding));
+            std::memcpy(&encoding, &o.ply_encoding, sizeof encoding);
+            switch (encoding) {
+                case DFM_PLY_BINARY_LITTLE_ENDIAN:
+                    write.ply_encoding = mesh::PlyEncoding::binary_little_endian;
+                    break;
+                case DFM_PLY_BINARY_BIG_ENDIAN:
+                    write.ply_encoding = mesh::PlyEncoding::binary_big_endian;
+                    break;
+                case DFM_PLY_ASCII: write.ply_encoding = mesh::PlyEncoding::ascii; break;
+                default:
+                    return report(
+                        fn, DFM_ERROR_INVALID_ARGUMENT,
+                        "options->ply_encoding " + std::to_string(encoding) + " is unknown");
+            }
+            write.ply_double = !o.ply_float;
+            write.obj_normals = o.obj_normals;
+            if (o.morph_target_name != nullptr) write.morph_target = o.morph_target_name;
+        }
+        return report(fn,
+                      mesh::save_host_mesh(path, m->state->current()->mesh, m->state->host, write));
     });
+}
+
+}  // namespace
+
+extern "C" DFM_API dfm_result dfm_mesh_save(const dfm_mesh* mesh, const char* path) {
+    return save_mesh_call("dfm_mesh_save", mesh, path, nullptr);
+}
+
+extern "C" DFM_API dfm_result dfm_mesh_save_with_options(const dfm_mesh* mesh, const char* path,
+                                                         const dfm_save_options* options) {
+    return save_mesh_call("dfm_mesh_save_with_options", mesh, path, options);
 }
 
 extern "C" DFM_API void dfm_mesh_destroy(dfm_mesh* mesh) {
@@ -277,15 +347,25 @@ extern "C" DFM_API dfm_result dfm_mesh_read_positions(const dfm_mesh* mesh,
     });
 }
 
-extern "C" DFM_API dfm_result dfm_mesh_read_indices(const dfm_mesh* mesh, uint32_t* indices,
-                                                    size_t capacity) {
-    constexpr const char* fn = "dfm_mesh_read_indices";
+namespace {
+
+// dfm_mesh_read_indices and _indices16: the calls' one opening (the mesh,
+// the array, the host's vertex count within `max_vertices`, the room), then
+// `write` with the host's triangles.
+template <class Index, class Write>
+dfm_result read_host_triangles(const char* fn, const dfm_mesh* mesh, Index* indices,
+                               std::size_t capacity, std::size_t max_vertices, Write&& write) {
     return guarded(fn, [&] {
         MeshObject* m = resolve_mesh(mesh);
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
         if (indices == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "indices is NULL");
         const auto model = m->state->current();
         const HostNumbering numbering(*m->state, model->mesh.vertex_count());
+        if (numbering.host_count() > max_vertices) {
+            return report(fn, DFM_ERROR_OUT_OF_RANGE,
+                          "the mesh has " + std::to_string(numbering.host_count()) +
+                              " vertices, more than 16-bit indices reach (65,536)");
+        }
         const auto& triangles =
             numbering.identity() ? model->mesh.triangles : numbering.weld()->host_triangles;
         if (capacity < 3 * triangles.size()) {
@@ -293,9 +373,19 @@ extern "C" DFM_API dfm_result dfm_mesh_read_indices(const dfm_mesh* mesh, uint32
                           "room for " + std::to_string(capacity) + " indices, " +
                               std::to_string(3 * triangles.size()) + " needed");
         }
-        std::memcpy(indices, triangles.data(), triangles.size() * sizeof(mesh::Triangle));
+        write(triangles);
         return DFM_OK;
     });
+}
+
+}  // namespace
+
+extern "C" DFM_API dfm_result dfm_mesh_read_indices(const dfm_mesh* mesh, uint32_t* indices,
+                                                    size_t capacity) {
+    return read_host_triangles(
+        "dfm_mesh_read_indices", mesh, indices, capacity, SIZE_MAX, [&](const auto& triangles) {
+            std::memcpy(indices, triangles.data(), triangles.size() * sizeof(mesh::Triangle));
+        });
 }
 
 extern "C" DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh,
@@ -344,32 +434,14 @@ extern "C" DFM_API dfm_result dfm_mesh_read_surface_map(const dfm_mesh* mesh, ui
 
 extern "C" DFM_API dfm_result dfm_mesh_read_indices16(const dfm_mesh* mesh, uint16_t* indices,
                                                       size_t capacity) {
-    constexpr const char* fn = "dfm_mesh_read_indices16";
-    return guarded(fn, [&] {
-        MeshObject* m = resolve_mesh(mesh);
-        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
-        if (indices == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "indices is NULL");
-        const auto model = m->state->current();
-        const HostNumbering numbering(*m->state, model->mesh.vertex_count());
-        if (numbering.host_count() > 65536) {
-            return report(fn, DFM_ERROR_OUT_OF_RANGE,
-                          "the mesh has " + std::to_string(numbering.host_count()) +
-                              " vertices, more than 16-bit indices reach (65,536)");
-        }
-        const auto& triangles =
-            numbering.identity() ? model->mesh.triangles : numbering.weld()->host_triangles;
-        if (capacity < 3 * triangles.size()) {
-            return report(fn, DFM_ERROR_INVALID_ARGUMENT,
-                          "room for " + std::to_string(capacity) + " indices, " +
-                              std::to_string(3 * triangles.size()) + " needed");
-        }
-        for (std::size_t t = 0; t < triangles.size(); ++t) {
-            for (int c = 0; c < 3; ++c) {
-                indices[3 * t + c] = static_cast<std::uint16_t>(triangles[t][c]);
+    return read_host_triangles(
+        "dfm_mesh_read_indices16", mesh, indices, capacity, 65536, [&](const auto& triangles) {
+            for (std::size_t t = 0; t < triangles.size(); ++t) {
+                for (int c = 0; c < 3; ++c) {
+                    indices[3 * t + c] = static_cast<std::uint16_t>(triangles[t][c]);
+                }
             }
-        }
-        return DFM_OK;
-    });
+        });
 }
 
 extern "C" DFM_API dfm_result dfm_mesh_set_positions(dfm_mesh* mesh,

@@ -35,6 +35,7 @@ struct ContextState {
     void* log_user = nullptr;
     std::uint32_t pick_thread_count = 0;  // Embree's device; 0: Embree's default
     std::string models_directory;         // empty: model:NAME is not found
+    std::string reference_folder;         // empty: references only in a file's own folder
     dfm_job_system job_system{};          // DFM_WORK_JOB_SYSTEM: where jobs go
     // While any context state lives, large buffers that sessions free are
     // kept for the next set-up (buffer_pool.hpp, one pool per process).

@@ -1,27 +1,5 @@
 #include "c_boundary.hpp"
 
-namespace dfm::sdk {
-
-dfm_result to_result(Errc code) {
-    switch (code) {
-        case Errc::ok: return DFM_OK;
-        case Errc::invalid_argument: return DFM_ERROR_INVALID_ARGUMENT;
-        case Errc::not_found: return DFM_ERROR_NOT_FOUND;
-        case Errc::io_error: return DFM_ERROR_IO;
-        case Errc::parse_error: return DFM_ERROR_PARSE;
-        case Errc::out_of_range: return DFM_ERROR_OUT_OF_RANGE;
-        case Errc::unsupported: return DFM_ERROR_UNSUPPORTED;
-        case Errc::out_of_memory: return DFM_ERROR_OUT_OF_MEMORY;
-        case Errc::numerical: return DFM_ERROR_NUMERICAL;
-        case Errc::internal: return DFM_ERROR_INTERNAL;
-        case Errc::cancelled: return DFM_ERROR_CANCELLED;
-        case Errc::busy: return DFM_ERROR_BUSY;
-    }
-    return DFM_ERROR_INVALID_ARGUMENT;
-}
-
-}  // namespace dfm::sdk
-
 extern "C" DFM_API const char* dfm_result_name(dfm_result result) {
     switch (result) {
         case DFM_OK: return "DFM_OK";

@@ -8,7 +8,7 @@
 // by the unit test that replays its findings.
 namespace dfm::test {
 
-inline bool scenario_contract_holds(const cli::Status& status, const cli::Scenario& scenario,
+inline bool scenario_contract_holds(const dfm::ToolStatus& status, const cli::Scenario& scenario,
                                     std::string_view source) {
     // An error is located in the source; a scenario has a mesh and a handle.
     if (!status) return std::string_view(status.message()).starts_with(source);

@@ -11,7 +11,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     dfm::cli::Scenario scenario;
-    const dfm::cli::Status status = dfm::cli::parse_scenario(text, "fuzz.json", scenario);
+    const dfm::ToolStatus status = dfm::cli::parse_scenario(text, "fuzz.json", scenario);
     if (!dfm::test::scenario_contract_holds(status, scenario, "fuzz.json")) std::abort();
     return 0;
 }

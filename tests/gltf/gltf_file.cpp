@@ -52,7 +52,7 @@ std::string base64_decode(std::string_view text) {
 
 json::JsonValue parse(std::string_view text, const std::filesystem::path& path) {
     json::JsonValue doc;
-    const json::JsonStatus s = json::parse_json(text, path.string(), doc);
+    const ToolStatus s = json::parse_json(text, path.string(), doc);
     REQUIRE_MESSAGE(s.is_ok(), s.message());
     REQUIRE(doc.type == json::JsonType::object);
     return doc;

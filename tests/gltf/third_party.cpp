@@ -82,7 +82,7 @@ std::vector<std::vector<BlenderObject>> blender_read(
     for (std::size_t i = 0; i < files.size(); ++i) {
         const std::filesystem::path json_path = dir / (std::to_string(i) + ".json");
         json::JsonValue doc;
-        const json::JsonStatus s = json::parse_json(read_text(json_path), json_path.string(), doc);
+        const ToolStatus s = json::parse_json(read_text(json_path), json_path.string(), doc);
         REQUIRE_MESSAGE(s.is_ok(), s.message());
         std::vector<BlenderObject> objects;
         for (const json::JsonValue& o : field(doc, "objects").items)

@@ -238,6 +238,70 @@ TEST_CASE("glTF reader: external buffers, embedded buffers and GLB load the same
     CHECK(surface.vertex_count() == grid.vertex_count());
 }
 
+TEST_CASE("glTF reader: external buffers resolve only inside the asset's folder") {
+    // A secret beside the asset's folder, of exactly the buffer's length: a
+    // document that reaches it would load, and a save would embed its bytes.
+    const Mesh grid = test::make_grid(2, 1);
+    const GltfBuilder b = grid_gltf(grid, 2);
+    const auto dir = test::scratch_dir("gltf_uri_confinement");
+    const auto asset_dir = dir / "asset";
+    std::filesystem::create_directories(asset_dir / "sub");
+    test::write_text(dir / "secret.bin", b.bin());
+    test::write_text(asset_dir / "sub" / "inside.bin", b.bin());
+    const std::string secret = (dir / "secret.bin").string();
+    struct Case {
+        std::string uri;
+        std::string why;
+    };
+    const Case refused[] = {
+        {"../secret.bin", "it leads out of the asset's folder"},
+        {"%2E%2E/secret.bin", "it leads out of the asset's folder"},
+        {"sub/../../secret.bin", "it leads out of the asset's folder"},
+        {secret, "an absolute path is not followed"},
+        {"file://" + secret, "a URI with a scheme is not followed"},
+        {"file:../secret.bin", "a URI with a scheme is not followed"},
+    };
+    for (const Case& c : refused) {
+        CAPTURE(c.uri);
+        test::write_text(asset_dir / "x.gltf", b.json(c.uri));
+        Mesh surface;
+        mesh::HostMesh host;
+        const Status s = mesh::load_host_mesh(asset_dir / "x.gltf", surface, host);
+        CHECK(s.code() == Errc::unsupported);
+        CHECK(s.message().find("'" + (c.uri.starts_with('%') ? "../secret.bin" : c.uri) +
+                               "' refused: " + c.why) != std::string::npos);
+        CHECK(surface.vertex_count() == 0);
+        Mesh plain;
+        CHECK(mesh::load_mesh(asset_dir / "x.gltf", plain).code() == Errc::unsupported);
+    }
+    // Inside the folder, ".." included, a reference resolves.
+    for (const char* uri : {"sub/inside.bin", "sub/../sub/inside.bin", "./sub/inside.bin"}) {
+        CAPTURE(uri);
+        test::write_text(asset_dir / "x.gltf", b.json(uri));
+        Mesh surface;
+        mesh::HostMesh host;
+        REQUIRE(mesh::load_host_mesh(asset_dir / "x.gltf", surface, host));
+        CHECK(surface.positions == test::rounded_to_float(grid).positions);
+    }
+    // A host widens the rule with a folder of its own; the document's own
+    // folder keeps its meaning, and the rest stays refused.
+    test::write_text(asset_dir / "x.gltf", b.json("../secret.bin"));
+    Mesh surface;
+    mesh::HostMesh host;
+    CHECK(mesh::load_host_mesh(asset_dir / "x.gltf", surface, host, nullptr, dir).is_ok());
+    CHECK(surface.positions == test::rounded_to_float(grid).positions);
+    test::write_text(asset_dir / "x.gltf", b.json("../../secret.bin"));
+    const Status wider = mesh::load_host_mesh(asset_dir / "x.gltf", surface, host, nullptr, dir);
+    CHECK(wider.code() == Errc::unsupported);
+    CHECK(wider.message().find("leads out of the asset's folder and of " +
+                               std::filesystem::absolute(dir).lexically_normal().string()) !=
+          std::string::npos);
+    // A document given as bytes follows no reference at all.
+    Mesh from_bytes;
+    mesh::GltfAsset asset;
+    CHECK_FALSE(read(b.json("sub/inside.bin"), from_bytes, asset).is_ok());
+}
+
 TEST_CASE("glTF reader: strips and fans become triangles; points are skipped with a warning") {
     GltfBuilder b;
     b.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});

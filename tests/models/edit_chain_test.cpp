@@ -52,7 +52,7 @@ TEST_CASE("edit chain: edits of different meshes are refused, naming the edit") 
     const std::vector<std::string> mixed = {scenario("cow-front-leg-step.json"),
                                             scenario("triceratops-horn-rotate.json")};
     cli::EditChain chain;
-    const cli::Status s = cli::run_edit_chain(mixed, chain);
+    const dfm::ToolStatus s = cli::run_edit_chain(mixed, chain);
     REQUIRE_FALSE(s.is_ok());
     CHECK(s.message().find("edit 2 of 2") != std::string::npos);
     CHECK(s.message().find("model:triceratops") != std::string::npos);

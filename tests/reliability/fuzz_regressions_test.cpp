@@ -39,7 +39,7 @@ TEST_CASE("fuzz regressions: every past finding loads or fails with a located er
         CAPTURE(name);
         if (file.extension() == ".json") {
             cli::Scenario scenario;
-            const cli::Status status = cli::parse_scenario(bytes, name, scenario);
+            const dfm::ToolStatus status = cli::parse_scenario(bytes, name, scenario);
             CHECK_MESSAGE(scenario_contract_holds(status, scenario, name), status.message());
         } else {
             const auto format = mesh::format_from_extension(file);

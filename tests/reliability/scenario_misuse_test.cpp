@@ -65,7 +65,7 @@ TEST_CASE("scenario misuse: every bad field is refused with its path named") {
         text += "}";
         CAPTURE(text);
         cli::Scenario scenario;
-        const cli::Status status = cli::parse_scenario(text, "s.json", scenario);
+        const dfm::ToolStatus status = cli::parse_scenario(text, "s.json", scenario);
         REQUIRE_FALSE(status.is_ok());
         CHECK(status.code() == DFM_ERROR_PARSE);
         const std::string named = ": " + std::string(bad.field) + ": ";
@@ -76,14 +76,14 @@ TEST_CASE("scenario misuse: every bad field is refused with its path named") {
 
 TEST_CASE("scenario misuse: a number beyond a double is refused naming its field") {
     cli::Scenario scenario;
-    const cli::Status status = cli::parse_scenario(
+    const dfm::ToolStatus status = cli::parse_scenario(
         R"({"mesh": "m.off", "roi": {"all": true}, "handles": [{"vertices": [7]}], )"
         R"("subdivide": 1e999})",
         "s.json", scenario);
     CHECK(status.code() == DFM_ERROR_PARSE);
     CHECK(status.message() ==
           "s.json:1:86: subdivide: the number 1e999 is beyond the range of a double");
-    const cli::Status nested = cli::parse_scenario(
+    const dfm::ToolStatus nested = cli::parse_scenario(
         R"({"mesh": "m.off", "roi": {"ball": {"center": 0, "radius": -1e400}}, )"
         R"("handles": [{"vertices": [7]}]})",
         "s.json", scenario);

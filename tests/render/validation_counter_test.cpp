@@ -11,7 +11,7 @@ using namespace dfm::render;
 TEST_CASE("render: the validation counter counts a misuse of Vulkan") {
     ValidationCounter counter;
     Instance instance;
-    const RenderStatus created = Instance::create({}, true, counter, instance);
+    const dfm::Status created = Instance::create({}, true, counter, instance);
     REQUIRE_MESSAGE(created.is_ok(), created.message());
     Device device;
     REQUIRE(Device::create(instance.handle(), VK_NULL_HANDLE, device).is_ok());

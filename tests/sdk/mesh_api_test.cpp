@@ -1,12 +1,15 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstddef>
+#include <filesystem>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "dualform/dualform.h"
 #include "sdk/sdk_fixture.hpp"
+#include "support/gltf_builder.hpp"
 #include "support/procedural_meshes.hpp"
 #include "support/test_files.hpp"
 
@@ -194,6 +197,45 @@ TEST_CASE("mesh api: loading reports the file and line and element") {
     CHECK(info.vertex_count == 42);
     dfm_mesh_destroy(mesh);
     dfm_mesh_destroy(sphere);
+}
+
+TEST_CASE(
+    "mesh api: a glTF's external buffer outside its folder is refused unless the host "
+    "widens the rule") {
+    GltfBuilder b;
+    b.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    b.indices_u16({0, 1, 2});
+    b.members = R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}])";
+    const auto dir = scratch_dir("sdk_gltf_references");
+    std::filesystem::create_directories(dir / "asset");
+    write_text(dir / "shared.bin", b.bin());
+    write_text(dir / "asset" / "x.gltf", b.json("../shared.bin"));
+    const std::string path = (dir / "asset" / "x.gltf").string();
+
+    Context c;
+    dfm_mesh* mesh = nullptr;
+    CHECK(dfm_mesh_load(c.context, path.c_str(), &mesh) == DFM_ERROR_UNSUPPORTED);
+    CHECK(mesh == nullptr);
+    CHECK(message_has("external file URI '../shared.bin' refused"));
+
+    const std::string folder = dir.string();
+    dfm_context_desc desc = {};
+    desc.struct_size = sizeof desc;
+    desc.reference_folder = folder.c_str();
+    dfm_context* wide = nullptr;
+    REQUIRE(dfm_context_create(&desc, &wide) == DFM_OK);
+    REQUIRE(dfm_mesh_load(wide, path.c_str(), &mesh) == DFM_OK);
+    dfm_mesh_info info = {};
+    REQUIRE(dfm_mesh_get_info(mesh, &info) == DFM_OK);
+    CHECK(info.vertex_count == 3);
+    dfm_mesh_destroy(mesh);
+    // A descriptor of the size before the field: the document's folder only.
+    desc.struct_size = offsetof(dfm_context_desc, models_directory) + sizeof(const char*);
+    dfm_context* narrow = nullptr;
+    REQUIRE(dfm_context_create(&desc, &narrow) == DFM_OK);
+    CHECK(dfm_mesh_load(narrow, path.c_str(), &mesh) == DFM_ERROR_UNSUPPORTED);
+    dfm_context_destroy(narrow);
+    dfm_context_destroy(wide);
 }
 
 TEST_CASE("mesh api: picking through a camera hits the sphere and a miss is no error") {

@@ -39,9 +39,6 @@ TEST_CASE("solver: Jacobi applies the inverse diagonal") {
     for (std::size_t i = 0; i < 30; ++i)
         for (std::size_t c = 0; c < 2; ++c)
             CHECK(z[i * 2 + c] == doctest::Approx(r[i * 2 + c] / d[i]).epsilon(1e-15));
-    std::vector<double> zt(60);
-    m.apply_transposed(r, zt, 2);
-    CHECK(zt == z);
 
     std::vector<Triplet> triplets = {{0, 0, 1.0}, {1, 0, 1.0}, {2, 2, 1.0}};
     const dfm::Status st = m.setup(csr_from_triplets(3, 3, triplets));

@@ -242,6 +242,57 @@ TEST_CASE("dualform deform --strict: a capped, unconverged solve exits 1") {
     CHECK(r.err.find("did not converge") != std::string::npos);
 }
 
+TEST_CASE("dualform: an output it cannot write exits 1, a malformed scenario 2") {
+    const auto dir = dfm::test::scratch_dir("cli_exit_codes");
+    const std::string scenario = (scenarios_dir() / "scale-cow-leg.json").string();
+    const std::filesystem::path nowhere = dir / "no-such-folder";
+    struct Case {
+        std::vector<std::string> args;
+        std::string message;
+    };
+    const Case unwritable[] = {
+        {{"deform", scenario, "--out", (nowhere / "x.off").string()}, "no-such-folder"},
+        {{"deform", scenario, "--out", (dir / "x.off").string(), "--report",
+          (nowhere / "r.json").string()},
+         "r.json: cannot write"},
+        {{"deform", scenario, "--out", (dir / "x.off").string(), "--roi-out",
+          (nowhere / "roi.txt").string()},
+         "roi.txt: cannot write"},
+        {{"roi", scenario, "--out", (nowhere / "roi.txt").string()}, "roi.txt: cannot write"},
+        {{"convert", "model:cow", (nowhere / "cow.obj").string()}, "no-such-folder"},
+        {{"bench", scenario, "--repeat", "1", "--json", (nowhere / "b.json").string()},
+         "b.json: cannot write"},
+    };
+    for (const Case& c : unwritable) {
+        CAPTURE(c.args[0]);
+        const auto r = dualform(c.args);
+        CAPTURE(r.err);
+        CHECK(r.exit_code == 1);
+        // The error ends stderr (bench prints its progress before it).
+        const std::size_t error = r.err.rfind("error: ");
+        REQUIRE(error != std::string::npos);
+        CHECK(r.err.find(c.message, error) != std::string::npos);
+        CHECK(r.err.find('\n', error) == r.err.size() - 1);
+    }
+    CHECK_FALSE(std::filesystem::exists(nowhere));
+
+    dfm::test::write_text(dir / "malformed.json", R"({"mesh": "model:cow", "roi": )");
+    const std::string malformed = (dir / "malformed.json").string();
+    const std::vector<std::string> malformed_runs[] = {
+        {"deform", malformed, "--out", (dir / "y.off").string()},
+        {"roi", malformed, "--out", (dir / "y.txt").string()},
+        {"bench", malformed},
+    };
+    for (const std::vector<std::string>& args : malformed_runs) {
+        CAPTURE(args[0]);
+        const auto r = dualform(args);
+        CHECK(r.exit_code == 2);
+        CHECK(r.err.find("malformed.json:1:") != std::string::npos);
+    }
+    // An output format the library does not write is a bad argument, not failed work.
+    CHECK(dualform({"deform", scenario, "--out", (dir / "x.stl").string()}).exit_code == 2);
+}
+
 TEST_CASE("dualform bench: set-up, solve and a 60-frame drag, as JSON") {
     const auto dir = dfm::test::scratch_dir("cli_bench");
     const std::string json_path = (dir / "bench.json").string();
@@ -527,4 +578,26 @@ TEST_CASE("dualform deform: a glTF mesh by #mesh=, written back and as a morph t
                   "--morph-target", "bend"});
     CHECK(r.exit_code == 2);
     CHECK(r.err.find("a morph target is written only to .gltf or .glb") != std::string::npos);
+}
+
+TEST_CASE("dualform deform: a glTF asset cannot pull a file outside its folder into the output") {
+    dfm::test::GltfBuilder b;
+    b.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1});
+    b.indices_u16({0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3});
+    b.members = R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}])";
+    const auto dir = dfm::test::scratch_dir("cli_gltf_references");
+    std::filesystem::create_directories(dir / "asset");
+    // The "secret" is a valid buffer of the right length, so that only the
+    // rule stops it.
+    dfm::test::write_text(dir / "secret.bin", b.bin());
+    dfm::test::write_text(dir / "asset" / "tet.gltf", b.json("../secret.bin"));
+    dfm::test::write_text(dir / "asset" / "edit.json",
+                          R"({"mesh": "tet.gltf", "roi": {"all": true},
+                              "handles": [{"vertices": [3], "translate": [0, 0, 0.1]}]})");
+    const std::filesystem::path out = dir / "out.gltf";
+    const auto r =
+        dualform({"deform", (dir / "asset" / "edit.json").string(), "--out", out.string()});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("external file URI '../secret.bin' refused") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(out));
 }

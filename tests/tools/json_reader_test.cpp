@@ -13,7 +13,7 @@ namespace {
 
 JsonValue parse_ok(std::string_view text) {
     JsonValue v;
-    const JsonStatus s = parse_json(text, "t.json", v);
+    const dfm::ToolStatus s = parse_json(text, "t.json", v);
     INFO(s.message());
     REQUIRE(s.is_ok());
     return v;
@@ -23,9 +23,9 @@ JsonValue parse_ok(std::string_view text) {
 std::string error_of(std::string_view text) {
     JsonValue v;
     v.type = JsonType::array;
-    const JsonStatus s = parse_json(text, "t.json", v);
+    const dfm::ToolStatus s = parse_json(text, "t.json", v);
     REQUIRE_FALSE(s.is_ok());
-    CHECK(s.code() == JsonStatus::Code::parse_error);
+    CHECK(s.code() == DFM_ERROR_PARSE);
     CHECK(v.type == JsonType::null);
     return s.message();
 }
@@ -303,7 +303,7 @@ TEST_CASE("json: damaged and random bytes give a located error or a value, never
             for (char& c : text) c = static_cast<char>(rng() % 256);
         }
         JsonValue v;
-        const JsonStatus s = parse_json(text, "t.json", v);
+        const dfm::ToolStatus s = parse_json(text, "t.json", v);
         if (!s) {
             CAPTURE(text);
             REQUIRE(s.message().starts_with("t.json:"));

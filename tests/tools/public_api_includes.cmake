@@ -1,7 +1,7 @@
 # The dualform tool proves the public contract: its files include only the
 # public headers (dualform/dualform.h, dualform/dualform_vulkan.h), the
-# tool's own headers (its status type among them: dualform/tool_status.hpp)
-# and the tools' JSON and environment modules; nothing of the engine.
+# tool's own headers and the tools' status type (status/tool_status.hpp),
+# JSON and environment modules; nothing of the engine.
 #
 # usage: cmake -DTOOL_DIR=tools/dualform -P public_api_includes.cmake
 cmake_minimum_required(VERSION 3.25)
@@ -16,7 +16,7 @@ foreach(path IN LISTS sources)
   foreach(line IN LISTS includes)
     string(REGEX REPLACE "^#include \"([^\"]+)\".*$" "\\1" header "${line}")
     if(header MATCHES "^dualform/(dualform|dualform_vulkan)\\.h$"
-       OR header MATCHES "^(json|environment)/")
+       OR header MATCHES "^(json|environment|status)/")
       continue()
     endif()
     if(header MATCHES "^dualform/(.+)$" AND EXISTS "${TOOL_DIR}/${CMAKE_MATCH_1}")

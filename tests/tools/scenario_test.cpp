@@ -21,7 +21,7 @@ std::filesystem::path scenarios_dir() {
 
 Scenario parse_ok(std::string_view text) {
     Scenario out;
-    const Status s = parse_scenario(text, "s.json", out);
+    const dfm::ToolStatus s = parse_scenario(text, "s.json", out);
     INFO(s.message());
     REQUIRE(s.is_ok());
     return out;
@@ -50,7 +50,7 @@ void check_message(std::string_view text, const std::string& located) {
     Scenario out;
     out.mesh = "left over";
     out.handles.resize(2);
-    const Status s = parse_scenario(text, "s.json", out);
+    const dfm::ToolStatus s = parse_scenario(text, "s.json", out);
     REQUIRE_FALSE(s.is_ok());
     CHECK(s.code() == DFM_ERROR_PARSE);
     CHECK(s.message() == located);
@@ -122,7 +122,7 @@ TEST_CASE("scenario: the example scenarios parse") {
         CAPTURE(name);
         const std::filesystem::path path = scenarios_dir() / (std::string(name) + ".json");
         Scenario s;
-        const Status status = load_scenario(path, s);
+        const dfm::ToolStatus status = load_scenario(path, s);
         INFO(status.message());
         REQUIRE(status.is_ok());
         CHECK(s.mesh.starts_with("model:"));
@@ -558,7 +558,7 @@ TEST_CASE("scenario: errors in a multi-line file name line and column") {
         "  ]\n"
         "}\n";
     Scenario s;
-    const Status status = parse_scenario(text, "cow.json", s);
+    const dfm::ToolStatus status = parse_scenario(text, "cow.json", s);
     CHECK(status.message() ==
           "cow.json:7:47: handles[1].rotate.degrees: expected a number, found a string");
 }
@@ -578,7 +578,7 @@ TEST_CASE("scenario: malformed JSON") {
     const std::string deep =
         with(any_roi, any_handles, ", \"comment\": " + std::string(100000, '['));
     Scenario s;
-    const Status status = parse_scenario(deep, "s.json", s);
+    const dfm::ToolStatus status = parse_scenario(deep, "s.json", s);
     CHECK(status.message().starts_with("s.json:1:"));
     CHECK(status.message().ends_with(": arrays and objects nest deeper than 256 levels"));
     check_error(with(any_roi, any_handles, R"(, "mesh": "again")"), R"("mesh": "again")",
@@ -600,7 +600,7 @@ TEST_CASE("scenario: load_scenario reads files and names them in errors") {
 
     const std::filesystem::path bad = sub / "bad.json";
     dfm::test::write_text(bad, "{\n  \"mesh\": 1\n}");
-    Status status = load_scenario(bad, s);
+    dfm::ToolStatus status = load_scenario(bad, s);
     CHECK(status.code() == DFM_ERROR_PARSE);
     CHECK(status.message() ==
           bad.string() +
@@ -660,7 +660,7 @@ TEST_CASE("scenario: damaged scenarios give a located error or a scenario, never
             text.replace(at, len, pieces[rng() % std::size(pieces)]);
         }
         Scenario s;
-        const Status status = parse_scenario(text, "s.json", s);
+        const dfm::ToolStatus status = parse_scenario(text, "s.json", s);
         if (!status) {
             CAPTURE(text);
             REQUIRE(status.message().starts_with("s.json:"));

@@ -15,27 +15,29 @@ namespace dfm::cli {
 
 namespace {
 
-Status check_vertex(std::uint32_t v, const ScenarioMesh& mesh, const std::string& what) {
-    if (v < mesh.info.vertex_count) return Status::ok();
-    return Status(DFM_ERROR_OUT_OF_RANGE,
-                  what + ": vertex " + std::to_string(v) + " is out of range (the mesh has " +
-                      std::to_string(mesh.info.vertex_count) + " vertices)");
+ToolStatus check_vertex(std::uint32_t v, const ScenarioMesh& mesh, const std::string& what) {
+    if (v < mesh.info.vertex_count) return ToolStatus::ok();
+    return ToolStatus(DFM_ERROR_OUT_OF_RANGE,
+                      what + ": vertex " + std::to_string(v) + " is out of range (the mesh has " +
+                          std::to_string(mesh.info.vertex_count) + " vertices)");
 }
 
-Status read_roi(RoiPtr roi, ScenarioRoi& out) {
+ToolStatus read_roi(RoiPtr roi, ScenarioRoi& out) {
     std::size_t count = 0;
-    if (Status s = api_status(dfm_roi_count(roi.get(), &count)); !s) return s;
+    if (ToolStatus s = api_status(dfm_roi_count(roi.get(), &count)); !s) return s;
     out.vertices.resize(count);
-    if (Status s = api_status(dfm_roi_read(roi.get(), out.vertices.data(), count)); !s) return s;
+    if (ToolStatus s = api_status(dfm_roi_read(roi.get(), out.vertices.data(), count)); !s)
+        return s;
     out.roi = std::move(roi);
-    return Status::ok();
+    return ToolStatus::ok();
 }
 
-Status ball(const BallSelection& spec, const ScenarioMesh& mesh, const std::string& what,
-            ScenarioRoi& out) {
-    if (Status s = check_vertex(spec.center, mesh, what + ".ball.center"); !s) return s;
+ToolStatus ball(const BallSelection& spec, const ScenarioMesh& mesh, const std::string& what,
+                ScenarioRoi& out) {
+    if (ToolStatus s = check_vertex(spec.center, mesh, what + ".ball.center"); !s) return s;
     dfm_roi* roi = nullptr;
-    if (Status s = api_status(dfm_roi_ball(mesh.mesh.get(), spec.center, spec.radius, &roi), what);
+    if (ToolStatus s =
+            api_status(dfm_roi_ball(mesh.mesh.get(), spec.center, spec.radius, &roi), what);
         !s) {
         return s;
     }
@@ -43,10 +45,10 @@ Status ball(const BallSelection& spec, const ScenarioMesh& mesh, const std::stri
 }
 
 // The vertex a click picks: the nearest corner of the face it hits.
-Status click_vertex(const ScenarioMesh& mesh, const dfm_camera& camera, glm::dvec2 pixel,
-                    const std::string& what, std::uint32_t& out) {
+ToolStatus click_vertex(const ScenarioMesh& mesh, const dfm_camera& camera, glm::dvec2 pixel,
+                        const std::string& what, std::uint32_t& out) {
     dfm_hit hit = {};
-    if (Status s =
+    if (ToolStatus s =
             api_status(dfm_mesh_pick(mesh.mesh.get(), &camera, pixel.x, pixel.y, &hit), what);
         !s) {
         return s;
@@ -57,10 +59,10 @@ Status click_vertex(const ScenarioMesh& mesh, const dfm_camera& camera, glm::dve
         message += ", ";
         json::append_number(message, pixel.y);
         message += "] hits nothing";
-        return Status(DFM_ERROR_INVALID_ARGUMENT, std::move(message));
+        return ToolStatus(DFM_ERROR_INVALID_ARGUMENT, std::move(message));
     }
     out = hit.vertex;
-    return Status::ok();
+    return ToolStatus::ok();
 }
 
 // Rotation about the pivot first, then translation: the order a user
@@ -92,20 +94,22 @@ void group_targets(const HandleSpec& spec, const std::vector<std::uint32_t>& gro
 
 }  // namespace
 
-Status open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out, std::uint32_t worker_count) {
-    if (Status s = create_context(out.context, worker_count); !s) return s;
+ToolStatus open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out,
+                              std::uint32_t worker_count) {
+    if (ToolStatus s = create_context(out.context, worker_count); !s) return s;
     const std::filesystem::path written(scenario.mesh);
     const std::string path = scenario.mesh.starts_with("model:") || written.is_absolute()
                                  ? scenario.mesh
                                  : (scenario.base_dir / written).string();
     dfm_mesh* mesh = nullptr;
-    if (Status s = api_status(dfm_mesh_load(out.context.get(), path.c_str(), &mesh), "mesh"); !s) {
+    if (ToolStatus s = api_status(dfm_mesh_load(out.context.get(), path.c_str(), &mesh), "mesh");
+        !s) {
         return s;
     }
     out.mesh.reset(mesh);
     if (scenario.subdivide > 0) {
         dfm_mesh* fine = nullptr;
-        if (Status s = api_status(
+        if (ToolStatus s = api_status(
                 dfm_mesh_subdivide(out.mesh.get(), static_cast<std::uint32_t>(scenario.subdivide),
                                    &fine),
                 "subdivide");
@@ -117,32 +121,33 @@ Status open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out, std::uint
     return refresh_scenario_mesh(out);
 }
 
-Status refresh_scenario_mesh(ScenarioMesh& mesh) {
-    if (Status s = api_status(dfm_mesh_get_info(mesh.mesh.get(), &mesh.info)); !s) return s;
+ToolStatus refresh_scenario_mesh(ScenarioMesh& mesh) {
+    if (ToolStatus s = api_status(dfm_mesh_get_info(mesh.mesh.get(), &mesh.info)); !s) return s;
     mesh.rest.resize(mesh.info.vertex_count);
     dfm_vec3_output positions = {};
     positions.data = mesh.rest.data();
     positions.count = mesh.rest.size();
     positions.type = DFM_SCALAR_FLOAT64;
-    if (Status s = api_status(dfm_mesh_read_positions(mesh.mesh.get(), &positions)); !s) return s;
+    if (ToolStatus s = api_status(dfm_mesh_read_positions(mesh.mesh.get(), &positions)); !s)
+        return s;
     mesh.lowest_copy.resize(mesh.info.vertex_count);
     return api_status(dfm_mesh_read_surface_map(mesh.mesh.get(), mesh.lowest_copy.data(),
                                                 mesh.lowest_copy.size()));
 }
 
-Status read_mesh_indices(const ScenarioMesh& mesh, std::vector<std::uint32_t>& out) {
+ToolStatus read_mesh_indices(const ScenarioMesh& mesh, std::vector<std::uint32_t>& out) {
     out.resize(3 * mesh.info.triangle_count);
     return api_status(dfm_mesh_read_indices(mesh.mesh.get(), out.data(), out.size()));
 }
 
-Status select_roi(const RoiSpec& spec, const ScenarioMesh& mesh, ScenarioRoi& out) {
+ToolStatus select_roi(const RoiSpec& spec, const ScenarioMesh& mesh, ScenarioRoi& out) {
     out = ScenarioRoi{};
     dfm_mesh* m = mesh.mesh.get();
     dfm_roi* roi = nullptr;
     switch (spec.kind) {
         case RoiSpec::Kind::water_fill: {
             dfm_water_fill_diagnosis diagnosis = {};
-            if (Status s = api_status(
+            if (ToolStatus s = api_status(
                     dfm_roi_water_fill(m, spec.first, spec.last, &roi, &diagnosis), "roi");
                 !s) {
                 return s;
@@ -156,17 +161,19 @@ Status select_roi(const RoiSpec& spec, const ScenarioMesh& mesh, ScenarioRoi& ou
             const std::string what = "roi.water_fill_clicks";
             std::uint32_t first = 0;
             std::uint32_t last = 0;
-            if (Status s =
+            if (ToolStatus s =
                     click_vertex(mesh, spec.camera, spec.first_pixel, what + ".first", first);
                 !s) {
                 return s;
             }
-            if (Status s = click_vertex(mesh, spec.camera, spec.last_pixel, what + ".last", last);
+            if (ToolStatus s =
+                    click_vertex(mesh, spec.camera, spec.last_pixel, what + ".last", last);
                 !s) {
                 return s;
             }
             dfm_water_fill_diagnosis diagnosis = {};
-            if (Status s = api_status(dfm_roi_water_fill(m, first, last, &roi, &diagnosis), what);
+            if (ToolStatus s =
+                    api_status(dfm_roi_water_fill(m, first, last, &roi, &diagnosis), what);
                 !s) {
                 return s;
             }
@@ -176,9 +183,9 @@ Status select_roi(const RoiSpec& spec, const ScenarioMesh& mesh, ScenarioRoi& ou
         case RoiSpec::Kind::ball: return ball(spec.ball, mesh, "roi", out);
         case RoiSpec::Kind::vertices:
             for (std::uint32_t v : spec.vertices) {
-                if (Status s = check_vertex(v, mesh, "roi.vertices"); !s) return s;
+                if (ToolStatus s = check_vertex(v, mesh, "roi.vertices"); !s) return s;
             }
-            if (Status s = api_status(
+            if (ToolStatus s = api_status(
                     dfm_roi_from_vertices(m, spec.vertices.data(), spec.vertices.size(), &roi),
                     "roi.vertices");
                 !s) {
@@ -186,19 +193,19 @@ Status select_roi(const RoiSpec& spec, const ScenarioMesh& mesh, ScenarioRoi& ou
             }
             break;
         case RoiSpec::Kind::all:
-            if (Status s = api_status(dfm_roi_all(m, &roi), "roi"); !s) return s;
+            if (ToolStatus s = api_status(dfm_roi_all(m, &roi), "roi"); !s) return s;
             break;
     }
     std::optional<dfm_water_fill_diagnosis> diagnosis = out.diagnosis;
-    if (Status s = read_roi(RoiPtr(roi), out); !s) return s;
+    if (ToolStatus s = read_roi(RoiPtr(roi), out); !s) return s;
     out.diagnosis = diagnosis;
-    return Status::ok();
+    return ToolStatus::ok();
 }
 
-Status resolve_scenario_edit(const Scenario& scenario, const ScenarioMesh& mesh,
-                             ScenarioEdit& out) {
+ToolStatus resolve_scenario_edit(const Scenario& scenario, const ScenarioMesh& mesh,
+                                 ScenarioEdit& out) {
     out = ScenarioEdit{};
-    if (Status s = select_roi(scenario.roi, mesh, out.roi); !s) return s;
+    if (ToolStatus s = select_roi(scenario.roi, mesh, out.roi); !s) return s;
     const std::vector<std::uint32_t>& roi = out.roi.vertices;
     for (std::size_t g = 0; g < scenario.handles.size(); ++g) {
         const HandleSpec& spec = scenario.handles[g];
@@ -206,18 +213,18 @@ Status resolve_scenario_edit(const Scenario& scenario, const ScenarioMesh& mesh,
         std::vector<std::uint32_t> group;
         if (spec.ball) {
             ScenarioRoi selected;
-            if (Status s = ball(*spec.ball, mesh, what, selected); !s) return s;
+            if (ToolStatus s = ball(*spec.ball, mesh, what, selected); !s) return s;
             group = std::move(selected.vertices);
         } else {
             for (std::uint32_t v : spec.vertices) {
-                if (Status s = check_vertex(v, mesh, what + ".vertices"); !s) return s;
+                if (ToolStatus s = check_vertex(v, mesh, what + ".vertices"); !s) return s;
             }
             group = spec.vertices;
         }
         for (std::uint32_t v : group) {
             if (!std::binary_search(roi.begin(), roi.end(), mesh.lowest_copy[v])) {
-                return Status(DFM_ERROR_INVALID_ARGUMENT,
-                              what + ": vertex " + std::to_string(v) + " is outside the ROI");
+                return ToolStatus(DFM_ERROR_INVALID_ARGUMENT,
+                                  what + ": vertex " + std::to_string(v) + " is outside the ROI");
             }
         }
         group_targets(spec, group, mesh, out.targets);
@@ -233,10 +240,10 @@ Status resolve_scenario_edit(const Scenario& scenario, const ScenarioMesh& mesh,
         out.solver.method =
             *solver.method == "paper" ? DFM_METHOD_PAPER : DFM_METHOD_FITTED_ROTATIONS;
     }
-    return Status::ok();
+    return ToolStatus::ok();
 }
 
-Status start_session(const ScenarioMesh& mesh, const ScenarioEdit& edit, SessionPtr& out) {
+ToolStatus start_session(const ScenarioMesh& mesh, const ScenarioEdit& edit, SessionPtr& out) {
     std::vector<dfm_handle_group> groups(edit.groups.size());
     for (std::size_t g = 0; g < groups.size(); ++g) {
         groups[g].vertices = edit.groups[g].data();
@@ -248,7 +255,8 @@ Status start_session(const ScenarioMesh& mesh, const ScenarioEdit& edit, Session
     desc.group_count = groups.size();
     desc.solver = edit.solver;
     dfm_session* session = nullptr;
-    if (Status s = api_status(dfm_session_create(mesh.mesh.get(), &desc, &session)); !s) return s;
+    if (ToolStatus s = api_status(dfm_session_create(mesh.mesh.get(), &desc, &session)); !s)
+        return s;
     out.reset(session);
     dfm_vec3_input targets = {};
     targets.data = edit.targets.data();

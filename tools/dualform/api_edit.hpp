@@ -8,7 +8,7 @@
 
 #include "dualform/c_api.hpp"
 #include "dualform/scenario.hpp"
-#include "dualform/tool_status.hpp"
+#include "status/tool_status.hpp"
 
 namespace dfm::cli {
 
@@ -25,14 +25,14 @@ struct ScenarioMesh {
     std::vector<std::uint32_t> lowest_copy;
 };
 
-Status open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out,
-                          std::uint32_t worker_count = 1);
+ToolStatus open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out,
+                              std::uint32_t worker_count = 1);
 
 // Reads the info and rest positions again, after a bake.
-Status refresh_scenario_mesh(ScenarioMesh& mesh);
+ToolStatus refresh_scenario_mesh(ScenarioMesh& mesh);
 
 // The triangles' vertex indices, three per triangle.
-Status read_mesh_indices(const ScenarioMesh& mesh, std::vector<std::uint32_t>& out);
+ToolStatus read_mesh_indices(const ScenarioMesh& mesh, std::vector<std::uint32_t>& out);
 
 // The ROI the spec selects, with its vertices ascending. For the
 // Water-Filling kinds `diagnosis` receives the fill's diagnosis; otherwise
@@ -43,7 +43,7 @@ struct ScenarioRoi {
     std::optional<dfm_water_fill_diagnosis> diagnosis;
 };
 
-Status select_roi(const RoiSpec& spec, const ScenarioMesh& mesh, ScenarioRoi& out);
+ToolStatus select_roi(const RoiSpec& spec, const ScenarioMesh& mesh, ScenarioRoi& out);
 
 // A scenario resolved against its mesh, ready for dfm_session_create: the
 // ROI, the handle groups, one target per handle vertex in group order, and
@@ -57,9 +57,10 @@ struct ScenarioEdit {
     std::size_t handle_count() const { return targets.size(); }
 };
 
-Status resolve_scenario_edit(const Scenario& scenario, const ScenarioMesh& mesh, ScenarioEdit& out);
+ToolStatus resolve_scenario_edit(const Scenario& scenario, const ScenarioMesh& mesh,
+                                 ScenarioEdit& out);
 
 // Creates the edit's session with its targets staged.
-Status start_session(const ScenarioMesh& mesh, const ScenarioEdit& edit, SessionPtr& out);
+ToolStatus start_session(const ScenarioMesh& mesh, const ScenarioEdit& edit, SessionPtr& out);
 
 }  // namespace dfm::cli

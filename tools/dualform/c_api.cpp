@@ -16,24 +16,24 @@ void print_warning(void*, dfm_log_level level, dfm_log_id id, const char* messag
 
 }  // namespace
 
-Status api_status(dfm_result result, const std::string& what) {
-    if (result == DFM_OK) return Status::ok();
+ToolStatus api_status(dfm_result result, const std::string& what) {
+    if (result == DFM_OK) return ToolStatus::ok();
     std::string message = what;
     if (!message.empty()) message += ": ";
     message += dfm_last_error_message();
-    return Status(result, std::move(message));
+    return ToolStatus(result, std::move(message));
 }
 
-Status create_context(ContextPtr& out, std::uint32_t worker_count) {
+ToolStatus create_context(ContextPtr& out, std::uint32_t worker_count) {
     const std::string models = tools::models_folder_from_environment().string();
     dfm_context_desc desc = {};
     desc.models_directory = models.c_str();
     desc.log = print_warning;
     desc.worker_count = worker_count;
     dfm_context* context = nullptr;
-    if (Status s = api_status(dfm_context_create(&desc, &context)); !s) return s;
+    if (ToolStatus s = api_status(dfm_context_create(&desc, &context)); !s) return s;
     out.reset(context);
-    return Status::ok();
+    return ToolStatus::ok();
 }
 
 }  // namespace dfm::cli

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "dualform/dualform.h"
-#include "dualform/tool_status.hpp"
+#include "status/tool_status.hpp"
 
 // The tool's side of the C API: owning pointers for its handles, and its
 // failures as the tool's statuses.
@@ -23,11 +23,11 @@ using SessionPtr = std::unique_ptr<dfm_session, HandleDeleter<dfm_session, dfm_s
 
 // DFM_OK, or the last failure's message (which names the call) prefixed by
 // `what` when that is not empty ("roi: dfm_roi_ball: ...").
-Status api_status(dfm_result result, const std::string& what = {});
+ToolStatus api_status(dfm_result result, const std::string& what = {});
 
 // A context configured from the tool's environment (the models folder of
 // model:NAME), with load warnings printed on stderr as "warning: ...", whose
 // sessions solve with `worker_count` threads.
-Status create_context(ContextPtr& out, std::uint32_t worker_count = 1);
+ToolStatus create_context(ContextPtr& out, std::uint32_t worker_count = 1);
 
 }  // namespace dfm::cli

@@ -103,22 +103,24 @@ struct Solved {
     dfm_solve_details details{};
 };
 
-Status solve_frame(dfm_session* session, Solved& out) {
-    if (Status s = api_status(dfm_session_solve(session, nullptr)); !s) return s;
-    if (Status s = api_status(dfm_session_get_solve_report(session, &out.report, &out.info)); !s)
+ToolStatus solve_frame(dfm_session* session, Solved& out) {
+    if (ToolStatus s = api_status(dfm_session_solve(session, nullptr)); !s) return s;
+    if (ToolStatus s = api_status(dfm_session_get_solve_report(session, &out.report, &out.info));
+        !s)
         return s;
     out.details = dfm_solve_details{};
     out.details.struct_size = sizeof out.details;
-    if (Status s = api_status(dfm_session_get_solve_details(session, &out.details, nullptr)); !s)
+    if (ToolStatus s = api_status(dfm_session_get_solve_details(session, &out.details, nullptr));
+        !s)
         return s;
     if (out.info.status != DFM_OK) {
-        return Status(DFM_ERROR_NUMERICAL, std::string("the solve broke down (") +
-                                               dfm_result_name(out.info.status) + ")");
+        return ToolStatus(DFM_ERROR_NUMERICAL, std::string("the solve broke down (") +
+                                                   dfm_result_name(out.info.status) + ")");
     }
-    return Status::ok();
+    return ToolStatus::ok();
 }
 
-Status set_targets(dfm_session* session, const std::vector<glm::dvec3>& targets) {
+ToolStatus set_targets(dfm_session* session, const std::vector<glm::dvec3>& targets) {
     dfm_vec3_input input = {};
     input.data = targets.data();
     input.count = targets.size();
@@ -155,18 +157,32 @@ const char* preconditioner_name(dfm_preconditioner p) {
 // dfm_solver_settings.tolerance's default, for the report of a scenario that sets none.
 constexpr double default_tolerance = 1e-5;
 
-Status bench_scenario(const std::string& path, int repeat, const Overrides& overrides,
-                      json::JsonWriter& json) {
+// A scenario as the bench runs it: the document, its mesh and its edit with
+// the command line's overrides.
+struct BenchInput {
     Scenario scenario;
-    if (Status s = load_scenario(path, scenario); !s) return s;
     ScenarioMesh mesh;
-    if (Status s = open_scenario_mesh(scenario, mesh, overrides.workers); !s) return s;
     ScenarioEdit edit;
-    if (Status s = resolve_scenario_edit(scenario, mesh, edit); !s)
-        return Status(s.code(), path + ": " + s.message());
-    if (overrides.preconditioner) edit.solver.preconditioner = *overrides.preconditioner;
-    edit.solver.disable_prediction = !overrides.predict_frames;
-    if (overrides.tolerance) edit.solver.tolerance = *overrides.tolerance;
+};
+
+// The input side: what fails here is bad input.
+ToolStatus read_bench_input(const std::string& path, const Overrides& overrides, BenchInput& in) {
+    if (ToolStatus s = load_scenario(path, in.scenario); !s) return s;
+    if (ToolStatus s = open_scenario_mesh(in.scenario, in.mesh, overrides.workers); !s) return s;
+    if (ToolStatus s = resolve_scenario_edit(in.scenario, in.mesh, in.edit); !s)
+        return ToolStatus(s.code(), path + ": " + s.message());
+    if (overrides.preconditioner) in.edit.solver.preconditioner = *overrides.preconditioner;
+    in.edit.solver.disable_prediction = !overrides.predict_frames;
+    if (overrides.tolerance) in.edit.solver.tolerance = *overrides.tolerance;
+    return ToolStatus::ok();
+}
+
+// The work: set-ups, solves from rest and the drag, timed, into `json`.
+ToolStatus bench_scenario(const std::string& path, const BenchInput& in, int repeat,
+                          const Overrides& overrides, json::JsonWriter& json) {
+    const Scenario& scenario = in.scenario;
+    const ScenarioMesh& mesh = in.mesh;
+    const ScenarioEdit& edit = in.edit;
 
     std::vector<double> setup, solve, per_iteration;
     SetupParts setup_parts;
@@ -175,10 +191,10 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
     Solved solved;
     for (int r = 0; r < repeat; ++r) {
         session.reset();  // one session at a time, so the peak memory is one edit's
-        if (Status s = start_session(mesh, edit, session); !s)
-            return Status(s.code(), path + ": " + s.message());
-        if (Status s = solve_frame(session.get(), solved); !s)
-            return Status(s.code(), path + ": " + s.message());
+        if (ToolStatus s = start_session(mesh, edit, session); !s)
+            return ToolStatus(s.code(), path + ": " + s.message());
+        if (ToolStatus s = solve_frame(session.get(), solved); !s)
+            return ToolStatus(s.code(), path + ": " + s.message());
         setup.push_back(solved.report.setup_ms);
         solve.push_back(solved.info.solve_ms);
         per_iteration.push_back(solved.info.solve_ms / std::max(1u, solved.info.iterations));
@@ -186,14 +202,15 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
         solve_parts.add(solved.details, solved.info.iterations);
     }
     dfm_quality quality = {};
-    if (Status s = api_status(dfm_session_measure_quality(session.get(), &quality, nullptr)); !s)
+    if (ToolStatus s = api_status(dfm_session_measure_quality(session.get(), &quality, nullptr));
+        !s)
         return s;
     session.reset();
 
     // The drag: a fresh session, targets moved from rest to the scenario's
     // in equal steps, each frame warm-started from the last.
     SessionPtr drag;
-    if (Status s = start_session(mesh, edit, drag); !s) return s;
+    if (ToolStatus s = start_session(mesh, edit, drag); !s) return s;
     std::vector<glm::dvec3> start;
     for (const std::vector<std::uint32_t>& group : edit.groups) {
         for (const std::uint32_t v : group) start.push_back(mesh.rest[v]);
@@ -212,16 +229,16 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
         const double t = static_cast<double>(f) / drag_frames;
         for (std::size_t h = 0; h < start.size(); ++h)
             frame_targets[h] = start[h] + t * (edit.targets[h] - start[h]);
-        if (Status s = set_targets(drag.get(), frame_targets); !s) return s;
+        if (ToolStatus s = set_targets(drag.get(), frame_targets); !s) return s;
         Solved frame;
-        if (Status s = solve_frame(drag.get(), frame); !s) return s;
+        if (ToolStatus s = solve_frame(drag.get(), frame); !s) return s;
         frame_ms.push_back(frame.info.solve_ms);
         frame_iterations.push_back(frame.info.iterations);
         frame_parts.add(frame.details, frame.info.iterations);
         unconverged += frame.info.converged ? 0 : 1;
         predicted += frame.details.predicted ? 1 : 0;
         dfm_quality folds = {};
-        if (Status s = api_status(dfm_session_measure_quality(drag.get(), &folds, nullptr)); !s)
+        if (ToolStatus s = api_status(dfm_session_measure_quality(drag.get(), &folds, nullptr)); !s)
             return s;
         most_flipped = std::max(most_flipped, folds.flipped_faces);
         most_creased = std::max(most_creased, folds.creased_edges);
@@ -231,9 +248,10 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
     // The peak above them is mostly the library's buffer pool, which keeps
     // a set-up's scratch for the next set-up, and this tool's own arrays.
     dfm_session_memory session_memory = {};
-    if (Status s = api_status(dfm_session_get_memory(drag.get(), &session_memory)); !s) return s;
+    if (ToolStatus s = api_status(dfm_session_get_memory(drag.get(), &session_memory)); !s)
+        return s;
     dfm_mesh_memory mesh_memory = {};
-    if (Status s = api_status(dfm_mesh_get_memory(mesh.mesh.get(), &mesh_memory)); !s) return s;
+    if (ToolStatus s = api_status(dfm_mesh_get_memory(mesh.mesh.get(), &mesh_memory)); !s) return s;
 
     const dfm_solve_report& sr = solved.report;
     json.begin_object();
@@ -309,7 +327,7 @@ Status bench_scenario(const std::string& path, int repeat, const Overrides& over
         median(solve_parts.normals), median(solve_parts.anderson), median(frame_ms),
         percentile(frame_ms, 0.99), median(frame_iterations), mib(session_memory.total),
         mib(mesh_memory.total), peak_rss_mib());
-    return Status::ok();
+    return ToolStatus::ok();
 }
 
 }  // namespace
@@ -380,15 +398,19 @@ int run_bench(std::span<const std::string_view> args) {
     json.end_object();
     json.key("results").begin_array();
     for (const std::string& path : scenarios) {
-        if (Status s = bench_scenario(path, repeat, overrides, json); !s)
+        BenchInput input;
+        if (ToolStatus s = read_bench_input(path, overrides, input); !s) {
             return bad_input(s.message());
+        }
+        if (ToolStatus s = bench_scenario(path, input, repeat, overrides, json); !s)
+            return work_failure(s);
         std::fprintf(stderr, "bench: %s done\n", path.c_str());
     }
     json.end_array();
     json.end_object();
     std::printf("%s\n", json.str().c_str());
     if (!json_path.empty()) {
-        if (Status s = write_text_file(json_path, json.str()); !s) return bad_input(s.message());
+        if (ToolStatus s = write_text_file(json_path, json.str()); !s) return work_failure(s);
     }
     return exit_ok;
 }

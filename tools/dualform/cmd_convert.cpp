@@ -38,16 +38,17 @@ int run_convert(std::span<const std::string_view> args) {
     }
     if (paths.size() != 2) return bad_input(usage(convert_help));
     ContextPtr context;
-    if (Status s = create_context(context); !s) return bad_input(s.message());
+    if (ToolStatus s = create_context(context); !s) return bad_input(s.message());
     const std::string in(paths[0]);
     const std::string out(paths[1]);
     dfm_mesh* handle = nullptr;
-    if (Status s = api_status(dfm_mesh_load(context.get(), in.c_str(), &handle)); !s) {
+    if (ToolStatus s = api_status(dfm_mesh_load(context.get(), in.c_str(), &handle)); !s) {
         return bad_input(s.message());
     }
     const MeshPtr mesh(handle);
-    if (Status s = api_status(dfm_mesh_save_with_options(mesh.get(), out.c_str(), &options)); !s) {
-        return bad_input(s.message());
+    if (ToolStatus s = api_status(dfm_mesh_save_with_options(mesh.get(), out.c_str(), &options));
+        !s) {
+        return work_failure(s);
     }
     return exit_ok;
 }

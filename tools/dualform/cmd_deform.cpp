@@ -24,19 +24,19 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 // The solved shape becomes the scenario mesh's rest pose (the report is
 // measured by then), so that a mesh from glTF is written back into its own
 // asset; `morph_target` non-empty writes the edit as a morph target instead.
-Status save_result(const ScenarioMesh& mesh, dfm_session* session, const std::string& path,
-                   const std::string& morph_target) {
+ToolStatus save_result(const ScenarioMesh& mesh, dfm_session* session, const std::string& path,
+                       const std::string& morph_target) {
     std::vector<double> positions(3 * mesh.info.vertex_count);
     dfm_vec3_output out = {};
     out.data = positions.data();
     out.count = mesh.info.vertex_count;
     out.type = DFM_SCALAR_FLOAT64;
-    if (Status s = api_status(dfm_session_read_positions(session, &out, nullptr)); !s) return s;
+    if (ToolStatus s = api_status(dfm_session_read_positions(session, &out, nullptr)); !s) return s;
     dfm_vec3_input in = {};
     in.data = positions.data();
     in.count = mesh.info.vertex_count;
     in.type = DFM_SCALAR_FLOAT64;
-    if (Status s = api_status(dfm_mesh_set_positions(mesh.mesh.get(), &in)); !s) return s;
+    if (ToolStatus s = api_status(dfm_mesh_set_positions(mesh.mesh.get(), &in)); !s) return s;
     dfm_save_options options = {};
     options.struct_size = sizeof options;
     options.morph_target_name = morph_target.empty() ? nullptr : morph_target.c_str();
@@ -87,51 +87,49 @@ int run_deform(std::span<const std::string_view> args) {
     if (scenario_path.empty() || out_path.empty()) return bad_input(usage(deform_help));
 
     Scenario scenario;
-    if (Status s = load_scenario(scenario_path, scenario); !s) return bad_input(s.message());
+    if (ToolStatus s = load_scenario(scenario_path, scenario); !s) return bad_input(s.message());
     const auto start = std::chrono::steady_clock::now();
     ScenarioMesh mesh;
-    if (Status s = open_scenario_mesh(scenario, mesh); !s) return bad_input(s.message());
+    if (ToolStatus s = open_scenario_mesh(scenario, mesh); !s) return bad_input(s.message());
     const double load_ms = ms_since(start);
     const auto setup_start = std::chrono::steady_clock::now();
     ScenarioEdit edit;
-    if (Status s = resolve_scenario_edit(scenario, mesh, edit); !s) {
+    if (ToolStatus s = resolve_scenario_edit(scenario, mesh, edit); !s) {
         return bad_input(scenario_path + ": " + s.message());
     }
     edit.solver.hard_handles = hard;
     if (method) edit.solver.method = *method;
     SessionPtr session;
-    if (Status s = start_session(mesh, edit, session); !s) {
-        return bad_input(scenario_path + ": " + s.message());
+    if (ToolStatus s = start_session(mesh, edit, session); !s) {
+        return work_failure(ToolStatus(s.code(), scenario_path + ": " + s.message()));
     }
     const double setup_ms = ms_since(setup_start);
 
     // Solved on this thread: the result is bit for bit the worker's.
     dfm_frame_info solved = {};
-    if (Status s = api_status(dfm_session_solve(session.get(), nullptr)); !s) {
-        std::fprintf(stderr, "error: %s\n", s.message().c_str());
-        return exit_failed;
+    if (ToolStatus s = api_status(dfm_session_solve(session.get(), nullptr)); !s) {
+        return failed(s.message());
     }
     dfm_quality quality = {};
-    if (Status s = api_status(dfm_session_measure_quality(session.get(), &quality, &solved)); !s) {
-        std::fprintf(stderr, "error: %s\n", s.message().c_str());
-        return exit_failed;
+    if (ToolStatus s = api_status(dfm_session_measure_quality(session.get(), &quality, &solved));
+        !s) {
+        return failed(s.message());
     }
     if (solved.status != DFM_OK) {
-        std::fprintf(stderr, "error: the solve broke down (%s)\n", dfm_result_name(solved.status));
-        return exit_failed;
+        return failed(std::string("the solve broke down (") + dfm_result_name(solved.status) + ")");
     }
     dfm_solve_report solver = {};
-    if (Status s = api_status(dfm_session_get_solve_report(session.get(), &solver, nullptr)); !s) {
-        std::fprintf(stderr, "error: %s\n", s.message().c_str());
-        return exit_failed;
+    if (ToolStatus s = api_status(dfm_session_get_solve_report(session.get(), &solver, nullptr));
+        !s) {
+        return failed(s.message());
     }
 
-    if (Status s = save_result(mesh, session.get(), out_path, morph_target); !s) {
-        return bad_input(s.message());
+    if (ToolStatus s = save_result(mesh, session.get(), out_path, morph_target); !s) {
+        return work_failure(s);
     }
     if (!roi_path.empty()) {
-        if (Status s = write_index_lines(roi_path, edit.roi.vertices); !s) {
-            return bad_input(s.message());
+        if (ToolStatus s = write_index_lines(roi_path, edit.roi.vertices); !s) {
+            return work_failure(s);
         }
     }
 
@@ -160,7 +158,7 @@ int run_deform(std::span<const std::string_view> args) {
     json.end_object();
     std::printf("%s\n", json.str().c_str());
     if (!report_path.empty()) {
-        if (Status s = write_text_file(report_path, json.str()); !s) return bad_input(s.message());
+        if (ToolStatus s = write_text_file(report_path, json.str()); !s) return work_failure(s);
     }
     if (strict && !solved.converged) {
         std::fprintf(stderr,

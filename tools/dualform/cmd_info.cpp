@@ -12,10 +12,10 @@ int run_info(std::span<const std::string_view> args) {
     if (args.size() != 1) return bad_input(usage(info_help));
     const std::string spec(args[0]);
     ContextPtr context;
-    if (Status s = create_context(context); !s) return bad_input(s.message());
+    if (ToolStatus s = create_context(context); !s) return bad_input(s.message());
     dfm_load_report loaded = {};
     dfm_mesh* handle = nullptr;
-    if (Status s =
+    if (ToolStatus s =
             api_status(dfm_mesh_load_with_report(context.get(), spec.c_str(), &loaded, &handle));
         !s) {
         return bad_input(s.message());
@@ -23,10 +23,10 @@ int run_info(std::span<const std::string_view> args) {
     const MeshPtr mesh(handle);
     dfm_mesh_info info = {};
     dfm_mesh_summary summary = {};
-    if (Status s = api_status(dfm_mesh_get_info(mesh.get(), &info)); !s) {
+    if (ToolStatus s = api_status(dfm_mesh_get_info(mesh.get(), &info)); !s) {
         return bad_input(s.message());
     }
-    if (Status s = api_status(dfm_mesh_get_summary(mesh.get(), &summary)); !s) {
+    if (ToolStatus s = api_status(dfm_mesh_get_summary(mesh.get(), &summary)); !s) {
         return bad_input(s.message());
     }
 

@@ -58,7 +58,7 @@ int bench(dfm_mesh* mesh, const dfm_camera& camera, glm::dvec2 pixel, std::size_
         const dfm_result r = dfm_mesh_pick(mesh, &camera, p.x, p.y, &hit);
         us[i] = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
                     .count();
-        if (Status s = api_status(r); !s) return bad_input(s.message());
+        if (ToolStatus s = api_status(r); !s) return bad_input(s.message());
         hits += hit.hit;
     }
     std::sort(us.begin(), us.end());
@@ -105,21 +105,22 @@ int run_pick(std::span<const std::string_view> args) {
     if (mesh_spec.empty() || camera_text.empty() || !pixel) return bad_input(usage(pick_help));
 
     dfm_camera camera{};
-    if (Status s = read_camera_argument(camera_text, camera); !s) return bad_input(s.message());
+    if (ToolStatus s = read_camera_argument(camera_text, camera); !s) return bad_input(s.message());
     if (pixel->x < 0.0 || pixel->y < 0.0 || pixel->x > camera.width || pixel->y > camera.height) {
         return bad_input("--pixel: the pixel lies outside the " + std::to_string(camera.width) +
                          "x" + std::to_string(camera.height) + " image");
     }
     ContextPtr context;
-    if (Status s = create_context(context); !s) return bad_input(s.message());
+    if (ToolStatus s = create_context(context); !s) return bad_input(s.message());
     dfm_mesh* loaded = nullptr;
-    if (Status s = api_status(dfm_mesh_load(context.get(), mesh_spec.c_str(), &loaded)); !s) {
+    if (ToolStatus s = api_status(dfm_mesh_load(context.get(), mesh_spec.c_str(), &loaded)); !s) {
         return bad_input(s.message());
     }
     const MeshPtr mesh(loaded);
     if (bench_rays > 0) return bench(mesh.get(), camera, *pixel, bench_rays);
     dfm_hit hit = {};
-    if (Status s = api_status(dfm_mesh_pick(mesh.get(), &camera, pixel->x, pixel->y, &hit)); !s) {
+    if (ToolStatus s = api_status(dfm_mesh_pick(mesh.get(), &camera, pixel->x, pixel->y, &hit));
+        !s) {
         return bad_input(s.message());
     }
     std::printf("%s\n", hit_json(hit).c_str());

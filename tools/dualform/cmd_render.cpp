@@ -184,12 +184,12 @@ int run_render(std::span<const std::string_view> args) {
     if (int code = parse(args, o); code != 0) return code;
 
     RenderScene scene;
-    if (Status s = load_render_scene(o.inputs, scene); !s) return bad_input(s.message());
+    if (ToolStatus s = load_render_scene(o.inputs, scene); !s) return bad_input(s.message());
 
     dfm_vk_frame frame = {};
     frame.flags = (o.wireframe ? DFM_VK_FLAG_WIREFRAME : 0u) | (o.flat ? DFM_VK_FLAG_FLAT : 0u);
     if (!o.camera.empty()) {
-        if (Status s = read_camera_argument(o.camera, frame.camera); !s) {
+        if (ToolStatus s = read_camera_argument(o.camera, frame.camera); !s) {
             return bad_input(s.message());
         }
         if (o.width) frame.camera.width = o.width;

@@ -27,14 +27,14 @@ int run_roi(std::span<const std::string_view> args) {
     if (scenario_path.empty() || out_path.empty()) return bad_input(usage(roi_help));
 
     Scenario scenario;
-    if (Status s = load_scenario(scenario_path, scenario); !s) return bad_input(s.message());
+    if (ToolStatus s = load_scenario(scenario_path, scenario); !s) return bad_input(s.message());
     ScenarioMesh mesh;
-    if (Status s = open_scenario_mesh(scenario, mesh); !s) return bad_input(s.message());
+    if (ToolStatus s = open_scenario_mesh(scenario, mesh); !s) return bad_input(s.message());
     ScenarioRoi roi;
-    if (Status s = select_roi(scenario.roi, mesh, roi); !s) {
+    if (ToolStatus s = select_roi(scenario.roi, mesh, roi); !s) {
         return bad_input(scenario_path + ": " + s.message());
     }
-    if (Status s = write_index_lines(out_path, roi.vertices); !s) return bad_input(s.message());
+    if (ToolStatus s = write_index_lines(out_path, roi.vertices); !s) return work_failure(s);
 
     json::JsonWriter j;
     j.begin_object().field("n_roi", roi.vertices.size());

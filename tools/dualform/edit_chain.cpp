@@ -7,7 +7,8 @@ namespace dfm::cli {
 
 namespace {
 
-Status in_chain(const Status& s, const std::string& path, std::size_t index, std::size_t count) {
+ToolStatus in_chain(const ToolStatus& s, const std::string& path, std::size_t index,
+                    std::size_t count) {
     std::string where = path;
     if (count > 1) {
         where += " (edit ";
@@ -18,11 +19,11 @@ Status in_chain(const Status& s, const std::string& path, std::size_t index, std
     }
     where += ": ";
     where += s.message();
-    return Status(s.code(), where);
+    return ToolStatus(s.code(), where);
 }
 
-Status read_session_positions(dfm_session* session, std::size_t count,
-                              std::vector<glm::dvec3>& out) {
+ToolStatus read_session_positions(dfm_session* session, std::size_t count,
+                                  std::vector<glm::dvec3>& out) {
     out.resize(count);
     dfm_vec3_output positions = {};
     positions.data = out.data();
@@ -31,17 +32,18 @@ Status read_session_positions(dfm_session* session, std::size_t count,
     return api_status(dfm_session_read_positions(session, &positions, nullptr));
 }
 
-Status solve_edit(const Scenario& scenario, ScenarioMesh& mesh, bool last, EditChain& out) {
+ToolStatus solve_edit(const Scenario& scenario, ScenarioMesh& mesh, bool last, EditChain& out) {
     ScenarioEdit edit;
-    if (Status s = resolve_scenario_edit(scenario, mesh, edit); !s) return s;
+    if (ToolStatus s = resolve_scenario_edit(scenario, mesh, edit); !s) return s;
     SessionPtr session;
-    if (Status s = start_session(mesh, edit, session); !s) return s;
-    if (Status s = api_status(dfm_session_solve(session.get(), nullptr)); !s) return s;
+    if (ToolStatus s = start_session(mesh, edit, session); !s) return s;
+    if (ToolStatus s = api_status(dfm_session_solve(session.get(), nullptr)); !s) return s;
     dfm_frame_info solved = {};
-    if (Status s = api_status(dfm_session_poll(session.get(), 0, &solved, nullptr)); !s) return s;
+    if (ToolStatus s = api_status(dfm_session_poll(session.get(), 0, &solved, nullptr)); !s)
+        return s;
     if (solved.status != DFM_OK) {
-        return Status(DFM_ERROR_NUMERICAL,
-                      std::string("the solve broke down (") + dfm_result_name(solved.status) + ")");
+        return ToolStatus(DFM_ERROR_NUMERICAL, std::string("the solve broke down (") +
+                                                   dfm_result_name(solved.status) + ")");
     }
     if (!solved.converged) ++out.unconverged;
     for (std::uint32_t v : edit.roi.vertices) out.marks[v] = mark_roi;
@@ -51,40 +53,40 @@ Status solve_edit(const Scenario& scenario, ScenarioMesh& mesh, bool last, EditC
         for (std::uint32_t v : edit.groups[g]) out.marks[v] = anchor ? mark_anchor : mark_handle;
     }
     if (last) return read_session_positions(session.get(), mesh.info.vertex_count, out.deformed);
-    if (Status s = api_status(dfm_session_bake(session.get())); !s) return s;
+    if (ToolStatus s = api_status(dfm_session_bake(session.get())); !s) return s;
     return refresh_scenario_mesh(mesh);
 }
 
 }  // namespace
 
-Status run_edit_chain(std::span<const std::string> scenario_paths, EditChain& out) {
+ToolStatus run_edit_chain(std::span<const std::string> scenario_paths, EditChain& out) {
     out = EditChain{};
-    if (scenario_paths.empty()) return Status(DFM_ERROR_INVALID_ARGUMENT, "no scenario given");
+    if (scenario_paths.empty()) return ToolStatus(DFM_ERROR_INVALID_ARGUMENT, "no scenario given");
     ScenarioMesh mesh;
     std::string mesh_spec;
     const std::size_t count = scenario_paths.size();
     for (std::size_t i = 0; i < count; ++i) {
         const std::string& path = scenario_paths[i];
         Scenario scenario;
-        if (Status s = load_scenario(path, scenario); !s) return s;
+        if (ToolStatus s = load_scenario(path, scenario); !s) return s;
         if (i == 0) {
-            if (Status s = open_scenario_mesh(scenario, mesh); !s) return s;
+            if (ToolStatus s = open_scenario_mesh(scenario, mesh); !s) return s;
             mesh_spec = scenario.mesh;
             out.rest.positions = mesh.rest;
-            if (Status s = read_mesh_indices(mesh, out.rest.indices); !s) return s;
+            if (ToolStatus s = read_mesh_indices(mesh, out.rest.indices); !s) return s;
             out.marks.assign(mesh.info.vertex_count, 0);
         } else if (scenario.mesh != mesh_spec || scenario.subdivide != 0) {
             return in_chain(
-                Status(DFM_ERROR_INVALID_ARGUMENT, "edits in a chain must all name \"" + mesh_spec +
-                                                       "\" without subdivision; this one names \"" +
-                                                       scenario.mesh + "\""),
+                ToolStatus(DFM_ERROR_INVALID_ARGUMENT,
+                           "edits in a chain must all name \"" + mesh_spec +
+                               "\" without subdivision; this one names \"" + scenario.mesh + "\""),
                 path, i, count);
         }
-        if (Status s = solve_edit(scenario, mesh, i + 1 == count, out); !s) {
+        if (ToolStatus s = solve_edit(scenario, mesh, i + 1 == count, out); !s) {
             return in_chain(s, path, i, count);
         }
     }
-    return Status::ok();
+    return ToolStatus::ok();
 }
 
 }  // namespace dfm::cli

@@ -7,7 +7,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "dualform/tool_status.hpp"
+#include "status/tool_status.hpp"
 
 namespace dfm::cli {
 
@@ -38,6 +38,6 @@ struct EditChain {
 };
 
 // Errors name the scenario file (and its position in the chain).
-Status run_edit_chain(std::span<const std::string> scenario_paths, EditChain& out);
+ToolStatus run_edit_chain(std::span<const std::string> scenario_paths, EditChain& out);
 
 }  // namespace dfm::cli

@@ -4,15 +4,15 @@
 
 namespace dfm::cli {
 
-Status write_text_file(const std::string& path, const std::string& text) {
+ToolStatus write_text_file(const std::string& path, const std::string& text) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out << text << '\n';
     out.close();
-    if (!out) return Status(DFM_ERROR_IO, path + ": cannot write");
-    return Status::ok();
+    if (!out) return ToolStatus(DFM_ERROR_IO, path + ": cannot write");
+    return ToolStatus::ok();
 }
 
-Status write_index_lines(const std::string& path, std::span<const std::uint32_t> values) {
+ToolStatus write_index_lines(const std::string& path, std::span<const std::uint32_t> values) {
     std::string text;
     for (std::uint32_t v : values) {
         if (!text.empty()) text += '\n';

@@ -4,14 +4,14 @@
 #include <span>
 #include <string>
 
-#include "dualform/tool_status.hpp"
+#include "status/tool_status.hpp"
 
 namespace dfm::cli {
 
 // Writes `text` and a final line break to `path`, replacing the file.
-Status write_text_file(const std::string& path, const std::string& text);
+ToolStatus write_text_file(const std::string& path, const std::string& text);
 
 // Writes one number a line.
-Status write_index_lines(const std::string& path, std::span<const std::uint32_t> values);
+ToolStatus write_index_lines(const std::string& path, std::span<const std::uint32_t> values);
 
 }  // namespace dfm::cli

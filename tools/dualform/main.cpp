@@ -14,6 +14,22 @@ int bad_input(std::string_view message) {
     return exit_bad_input;
 }
 
+int failed(std::string_view message) {
+    std::fprintf(stderr, "error: %.*s\n", static_cast<int>(message.size()), message.data());
+    return exit_failed;
+}
+
+int work_failure(const ToolStatus& status) {
+    switch (status.code()) {
+        case DFM_ERROR_INVALID_ARGUMENT:
+        case DFM_ERROR_NOT_FOUND:
+        case DFM_ERROR_PARSE:
+        case DFM_ERROR_OUT_OF_RANGE:
+        case DFM_ERROR_UNSUPPORTED: return bad_input(status.message());
+        default: return failed(status.message());
+    }
+}
+
 namespace {
 
 // The command's usage on stdout when its arguments ask for it.

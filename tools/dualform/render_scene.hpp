@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "dualform/edit_chain.hpp"
-#include "dualform/tool_status.hpp"
+#include "status/tool_status.hpp"
 
 namespace dfm::cli {
 
@@ -21,6 +21,6 @@ struct RenderScene {
 // Paths ending in .json are scenarios, replayed one after the other (each
 // baked before the next, see edit_chain.hpp); anything else is one mesh (a
 // path or model:NAME). Errors name the file and what is wrong.
-Status load_render_scene(std::span<const std::string> inputs, RenderScene& out);
+ToolStatus load_render_scene(std::span<const std::string> inputs, RenderScene& out);
 
 }  // namespace dfm::cli

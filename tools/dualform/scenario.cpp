@@ -32,20 +32,12 @@ using json::json_printable;
 using json::json_type_phrase;
 using json::JsonMember;
 using json::JsonPosition;
-using json::JsonStatus;
 using json::JsonType;
 using json::JsonValue;
 
-// The JSON reader's outcome as the tool's status, keeping its message.
-Status read_json(std::string_view text, std::string_view source, JsonValue& out) {
-    const JsonStatus read = json::parse_json(text, source, {.keep_huge_numbers = true}, out);
-    switch (read.code()) {
-        case JsonStatus::Code::ok: return Status::ok();
-        case JsonStatus::Code::out_of_memory:
-            return Status(DFM_ERROR_OUT_OF_MEMORY, read.message());
-        case JsonStatus::Code::parse_error: break;
-    }
-    return Status(DFM_ERROR_PARSE, read.message());
+// Numbers beyond a double are kept, so that the schema's checks name the field.
+ToolStatus read_json(std::string_view text, std::string_view source, JsonValue& out) {
+    return json::parse_json(text, source, {.keep_huge_numbers = true}, out);
 }
 
 using Names = std::initializer_list<std::string_view>;
@@ -143,9 +135,9 @@ class ScenarioReader {
 public:
     explicit ScenarioReader(std::string_view source) : source_(source) {}
 
-    Status scenario(const JsonValue& root, Scenario& out) const {
+    ToolStatus scenario(const JsonValue& root, Scenario& out) const {
         const Field top{&root, root.at, ""};
-        if (Status s = object(
+        if (ToolStatus s = object(
                 top, {"mesh", "subdivide", "roi", "handles", "solver", "description", "comment"});
             !s) {
             return s;
@@ -154,40 +146,42 @@ public:
             const Field f = member(top, note);
             if (f.value && f.value->type != JsonType::string) return expected(f, "a string");
         }
-        if (Status s = mesh(member(top, "mesh"), out.mesh); !s) return s;
+        if (ToolStatus s = mesh(member(top, "mesh"), out.mesh); !s) return s;
         if (const Field f = member(top, "subdivide"); f.value) {
             const auto accept = [](const JsonValue& v) {
                 return v.integer && v.number >= 0.0 && v.number <= max_subdivisions;
             };
             double v = 0.0;
-            if (Status s = number(f, "an integer from 0 to 3", accept, v); !s) return s;
+            if (ToolStatus s = number(f, "an integer from 0 to 3", accept, v); !s) return s;
             out.subdivide = static_cast<int>(v);
         }
-        if (Status s = roi(member(top, "roi"), out.roi); !s) return s;
-        if (Status s = handles(member(top, "handles"), out.handles); !s) return s;
+        if (ToolStatus s = roi(member(top, "roi"), out.roi); !s) return s;
+        if (ToolStatus s = handles(member(top, "handles"), out.handles); !s) return s;
         const Field solver_field = member(top, "solver");
-        if (!solver_field.value) return Status::ok();
+        if (!solver_field.value) return ToolStatus::ok();
         return solver(solver_field, out.solver);
     }
 
     // A camera as a document of its own (`dualform pick --camera`).
-    Status camera_document(const JsonValue& root, dfm_camera& out) const {
+    ToolStatus camera_document(const JsonValue& root, dfm_camera& out) const {
         return camera(Field{&root, root.at, ""}, out);
     }
 
 private:
-    Status error(const Field& f, std::string_view what) const { return error(f.at, f.path, what); }
-    Status error(JsonPosition at, std::string_view path, std::string_view what) const {
+    ToolStatus error(const Field& f, std::string_view what) const {
+        return error(f.at, f.path, what);
+    }
+    ToolStatus error(JsonPosition at, std::string_view path, std::string_view what) const {
         std::string message = json_location(source_, at);
         if (!path.empty()) {
             message += path;
             message += ": ";
         }
         message += what;
-        return Status(DFM_ERROR_PARSE, std::move(message));
+        return ToolStatus(DFM_ERROR_PARSE, std::move(message));
     }
 
-    Status expected(const Field& f, std::string_view what) const {
+    ToolStatus expected(const Field& f, std::string_view what) const {
         std::string message = "expected ";
         message += what;
         message += ", found ";
@@ -196,7 +190,7 @@ private:
     }
 
     // The field is present and of `type`; `what` names what it should be.
-    Status typed(const Field& f, JsonType type, std::string_view what) const {
+    ToolStatus typed(const Field& f, JsonType type, std::string_view what) const {
         if (!f.value) return error(f, "required field is missing");
         if (f.value->type != type) return expected(f, what);
         if (f.value->beyond_double) {
@@ -205,12 +199,12 @@ private:
             message += " is beyond the range of a double";
             return error(f, message);
         }
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
     // The field is an object whose every member is among `known`.
-    Status object(const Field& f, Names known) const {
-        if (Status s = typed(f, JsonType::object, "an object"); !s) return s;
+    ToolStatus object(const Field& f, Names known) const {
+        if (ToolStatus s = typed(f, JsonType::object, "an object"); !s) return s;
         for (const JsonMember& m : f.value->members) {
             if (std::find(known.begin(), known.end(), m.key) != known.end()) continue;
             std::string what = "unknown field (expected ";
@@ -218,13 +212,13 @@ private:
             what += ')';
             return error(m.at, member_path(f, m.key), what);
         }
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
     // Exactly one of `names` is a member of the object `f`; `kind` says
     // what they are ("ROI kind").
-    Status exactly_one(const Field& f, Names names, std::string_view kind,
-                       const JsonMember*& out) const {
+    ToolStatus exactly_one(const Field& f, Names names, std::string_view kind,
+                           const JsonMember*& out) const {
         out = nullptr;
         for (const JsonMember& m : f.value->members) {
             if (std::find(names.begin(), names.end(), m.key) == names.end()) continue;
@@ -238,7 +232,7 @@ private:
             }
             out = &m;
         }
-        if (out) return Status::ok();
+        if (out) return ToolStatus::ok();
         std::string what = "expected one ";
         what += kind;
         what += " (";
@@ -249,25 +243,25 @@ private:
 
     // A number that `accept` takes; `what` describes such numbers.
     template <typename Accept>
-    Status number(const Field& f, std::string_view what, Accept accept, double& out) const {
-        if (Status s = typed(f, JsonType::number, what); !s) return s;
+    ToolStatus number(const Field& f, std::string_view what, Accept accept, double& out) const {
+        if (ToolStatus s = typed(f, JsonType::number, what); !s) return s;
         if (!accept(*f.value)) return expected(f, what);
         out = f.value->number;
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
-    Status number(const Field& f, double& out) const {
+    ToolStatus number(const Field& f, double& out) const {
         return number(
             f, "a number", [](const JsonValue&) { return true; }, out);
     }
 
-    Status positive(const Field& f, double& out) const {
+    ToolStatus positive(const Field& f, double& out) const {
         return number(
             f, "a number greater than 0", [](const JsonValue& v) { return v.number > 0.0; }, out);
     }
 
     // An integer from 1 to `max`, written without fraction or exponent.
-    Status count(const Field& f, double max, double& out) const {
+    ToolStatus count(const Field& f, double max, double& out) const {
         std::string what = "a positive integer (at most ";
         what += number_text(max, true);
         what += ')';
@@ -277,22 +271,22 @@ private:
         return number(f, what, accept, out);
     }
 
-    Status index(const Field& f, std::uint32_t& out) const {
+    ToolStatus index(const Field& f, std::uint32_t& out) const {
         const auto accept = [](const JsonValue& v) {
             return v.integer && v.number >= 0.0 && v.number <= max_vertex_index;
         };
         double v = 0.0;
-        if (Status s = number(f, "a vertex index (an integer from 0 to 4294967294)", accept, v);
+        if (ToolStatus s = number(f, "a vertex index (an integer from 0 to 4294967294)", accept, v);
             !s) {
             return s;
         }
         out = static_cast<std::uint32_t>(v);
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
     // A non-empty list of distinct vertex indices.
-    Status index_list(const Field& f, std::vector<std::uint32_t>& out) const {
-        if (Status s = typed(f, JsonType::array, "an array of vertex indices"); !s) return s;
+    ToolStatus index_list(const Field& f, std::vector<std::uint32_t>& out) const {
+        if (ToolStatus s = typed(f, JsonType::array, "an array of vertex indices"); !s) return s;
         if (f.value->items.empty()) return expected(f, "at least one vertex index");
         const std::size_t n = f.value->items.size();
         out.resize(n);
@@ -300,7 +294,7 @@ private:
         first_seen.reserve(n);
         for (std::size_t i = 0; i < n; ++i) {
             const Field e = item(f, i);
-            if (Status s = index(e, out[i]); !s) return s;
+            if (ToolStatus s = index(e, out[i]); !s) return s;
             const auto [it, fresh] = first_seen.emplace(out[i], i);
             if (!fresh) {
                 std::string what = "vertex ";
@@ -311,23 +305,23 @@ private:
                 return error(e, what);
             }
         }
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
     template <glm::length_t L>
-    Status vec(const Field& f, glm::vec<L, double>& out) const {
+    ToolStatus vec(const Field& f, glm::vec<L, double>& out) const {
         const char* what =
             L == 2 ? "an array of 2 numbers [x, y]" : "an array of 3 numbers [x, y, z]";
-        if (Status s = typed(f, JsonType::array, what); !s) return s;
+        if (ToolStatus s = typed(f, JsonType::array, what); !s) return s;
         if (f.value->items.size() != static_cast<std::size_t>(L)) return expected(f, what);
         for (glm::length_t i = 0; i < L; ++i) {
-            if (Status s = number(item(f, static_cast<std::size_t>(i)), out[i]); !s) return s;
+            if (ToolStatus s = number(item(f, static_cast<std::size_t>(i)), out[i]); !s) return s;
         }
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
-    Status mesh(const Field& f, std::string& out) const {
-        if (Status s = typed(f, JsonType::string, "a string (a mesh file path or model:NAME)");
+    ToolStatus mesh(const Field& f, std::string& out) const {
+        if (ToolStatus s = typed(f, JsonType::string, "a string (a mesh file path or model:NAME)");
             !s) {
             return s;
         }
@@ -337,14 +331,14 @@ private:
         if (out.find('\0') != std::string::npos) {
             return error(f, "a mesh path cannot contain a NUL character");
         }
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
-    Status roi(const Field& f, RoiSpec& out) const {
+    ToolStatus roi(const Field& f, RoiSpec& out) const {
         const Names kinds = {"water_fill", "water_fill_clicks", "ball", "vertices", "all"};
-        if (Status s = object(f, kinds); !s) return s;
+        if (ToolStatus s = object(f, kinds); !s) return s;
         const JsonMember* kind = nullptr;
-        if (Status s = exactly_one(f, kinds, "ROI kind", kind); !s) return s;
+        if (ToolStatus s = exactly_one(f, kinds, "ROI kind", kind); !s) return s;
         const Field k = member(f, kind->key);
         if (kind->key == "water_fill") {
             out.kind = RoiSpec::Kind::water_fill;
@@ -364,28 +358,28 @@ private:
         }
         out.kind = RoiSpec::Kind::all;
         if (k.value->type != JsonType::boolean || !k.value->boolean) return expected(k, "true");
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
-    Status water_fill(const Field& f, RoiSpec& out) const {
-        if (Status s = object(f, {"first", "last"}); !s) return s;
-        if (Status s = index(member(f, "first"), out.first); !s) return s;
+    ToolStatus water_fill(const Field& f, RoiSpec& out) const {
+        if (ToolStatus s = object(f, {"first", "last"}); !s) return s;
+        if (ToolStatus s = index(member(f, "first"), out.first); !s) return s;
         const Field last = member(f, "last");
-        if (Status s = index(last, out.last); !s) return s;
+        if (ToolStatus s = index(last, out.last); !s) return s;
         // The cut plane's normal is the direction from first to last.
         if (out.last == out.first) return error(last, "must differ from first");
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
-    Status water_fill_clicks(const Field& f, RoiSpec& out) const {
-        if (Status s = object(f, {"camera", "first", "last"}); !s) return s;
-        if (Status s = camera(member(f, "camera"), out.camera); !s) return s;
-        if (Status s = pixel(member(f, "first"), out.camera, out.first_pixel); !s) return s;
+    ToolStatus water_fill_clicks(const Field& f, RoiSpec& out) const {
+        if (ToolStatus s = object(f, {"camera", "first", "last"}); !s) return s;
+        if (ToolStatus s = camera(member(f, "camera"), out.camera); !s) return s;
+        if (ToolStatus s = pixel(member(f, "first"), out.camera, out.first_pixel); !s) return s;
         return pixel(member(f, "last"), out.camera, out.last_pixel);
     }
 
-    Status pixel(const Field& f, const dfm_camera& camera, glm::dvec2& out) const {
-        if (Status s = vec(f, out); !s) return s;
+    ToolStatus pixel(const Field& f, const dfm_camera& camera, glm::dvec2& out) const {
+        if (ToolStatus s = vec(f, out); !s) return s;
         const double w = camera.width;
         const double h = camera.height;
         if (out.x < 0.0 || out.x > w || out.y < 0.0 || out.y > h) {
@@ -396,22 +390,23 @@ private:
             what += ']';
             return error(f, what);
         }
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
-    Status camera(const Field& f, dfm_camera& out) const {
-        if (Status s = object(f, {"eye", "target", "up", "fov_y_degrees", "width", "height"}); !s) {
+    ToolStatus camera(const Field& f, dfm_camera& out) const {
+        if (ToolStatus s = object(f, {"eye", "target", "up", "fov_y_degrees", "width", "height"});
+            !s) {
             return s;
         }
         glm::dvec3 eye{0.0};
         glm::dvec3 target_point{0.0};
         glm::dvec3 up_direction{0.0};
-        if (Status s = vec(member(f, "eye"), eye); !s) return s;
+        if (ToolStatus s = vec(member(f, "eye"), eye); !s) return s;
         const Field target = member(f, "target");
-        if (Status s = vec(target, target_point); !s) return s;
+        if (ToolStatus s = vec(target, target_point); !s) return s;
         if (target_point == eye) return error(target, "must differ from eye");
         const Field up = member(f, "up");
-        if (Status s = vec(up, up_direction); !s) return s;
+        if (ToolStatus s = vec(up, up_direction); !s) return s;
         for (int k = 0; k < 3; ++k) {
             out.eye[k] = eye[k];
             out.target[k] = target_point[k];
@@ -422,56 +417,57 @@ private:
                          "must be non-zero and not parallel to the view direction (target - eye)");
         }
         const auto opening = [](const JsonValue& v) { return v.number > 0.0 && v.number < 180.0; };
-        if (Status s = number(member(f, "fov_y_degrees"),
-                              "an angle in degrees between 0 and 180, both excluded", opening,
-                              out.fov_y_degrees);
+        if (ToolStatus s = number(member(f, "fov_y_degrees"),
+                                  "an angle in degrees between 0 and 180, both excluded", opening,
+                                  out.fov_y_degrees);
             !s) {
             return s;
         }
         double width = 0.0;
         double height = 0.0;
-        if (Status s = count(member(f, "width"), UINT32_MAX, width); !s) return s;
-        if (Status s = count(member(f, "height"), UINT32_MAX, height); !s) return s;
+        if (ToolStatus s = count(member(f, "width"), UINT32_MAX, width); !s) return s;
+        if (ToolStatus s = count(member(f, "height"), UINT32_MAX, height); !s) return s;
         out.width = static_cast<std::uint32_t>(width);
         out.height = static_cast<std::uint32_t>(height);
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
-    Status ball(const Field& f, BallSelection& out) const {
-        if (Status s = object(f, {"center", "radius"}); !s) return s;
-        if (Status s = index(member(f, "center"), out.center); !s) return s;
+    ToolStatus ball(const Field& f, BallSelection& out) const {
+        if (ToolStatus s = object(f, {"center", "radius"}); !s) return s;
+        if (ToolStatus s = index(member(f, "center"), out.center); !s) return s;
         return positive(member(f, "radius"), out.radius);
     }
 
-    Status handles(const Field& f, std::vector<HandleSpec>& out) const {
-        if (Status s = typed(f, JsonType::array, "an array of handle groups"); !s) return s;
+    ToolStatus handles(const Field& f, std::vector<HandleSpec>& out) const {
+        if (ToolStatus s = typed(f, JsonType::array, "an array of handle groups"); !s) return s;
         if (f.value->items.empty()) return expected(f, "at least one handle group");
         out.resize(f.value->items.size());
         for (std::size_t i = 0; i < out.size(); ++i) {
-            if (Status s = handle(item(f, i), out[i]); !s) return s;
+            if (ToolStatus s = handle(item(f, i), out[i]); !s) return s;
         }
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
-    Status handle(const Field& f, HandleSpec& out) const {
-        if (Status s = object(f, {"vertices", "ball", "translate", "rotate", "targets"}); !s) {
+    ToolStatus handle(const Field& f, HandleSpec& out) const {
+        if (ToolStatus s = object(f, {"vertices", "ball", "translate", "rotate", "targets"}); !s) {
             return s;
         }
         const JsonMember* selection = nullptr;
-        if (Status s = exactly_one(f, {"vertices", "ball"}, "selection", selection); !s) return s;
+        if (ToolStatus s = exactly_one(f, {"vertices", "ball"}, "selection", selection); !s)
+            return s;
         if (selection->key == "ball") {
-            if (Status s = ball(member(f, "ball"), out.ball.emplace()); !s) return s;
-        } else if (Status s = index_list(member(f, "vertices"), out.vertices); !s) {
+            if (ToolStatus s = ball(member(f, "ball"), out.ball.emplace()); !s) return s;
+        } else if (ToolStatus s = index_list(member(f, "vertices"), out.vertices); !s) {
             return s;
         }
         if (const Field t = member(f, "translate"); t.value) {
-            if (Status s = vec(t, out.translate.emplace()); !s) return s;
+            if (ToolStatus s = vec(t, out.translate.emplace()); !s) return s;
         }
         if (const Field r = member(f, "rotate"); r.value) {
-            if (Status s = rotate(r, out.rotate.emplace()); !s) return s;
+            if (ToolStatus s = rotate(r, out.rotate.emplace()); !s) return s;
         }
         const Field targets_field = member(f, "targets");
-        if (!targets_field.value) return Status::ok();
+        if (!targets_field.value) return ToolStatus::ok();
         if (out.ball) {
             return error(targets_field,
                          "needs a vertices list (one target per vertex), not a ball");
@@ -483,16 +479,16 @@ private:
         return targets(targets_field, out.vertices.size(), out.targets);
     }
 
-    Status rotate(const Field& f, RotateSpec& out) const {
-        if (Status s = object(f, {"axis", "degrees", "pivot"}); !s) return s;
+    ToolStatus rotate(const Field& f, RotateSpec& out) const {
+        if (ToolStatus s = object(f, {"axis", "degrees", "pivot"}); !s) return s;
         const Field axis = member(f, "axis");
-        if (Status s = vec(axis, out.axis); !s) return s;
+        if (ToolStatus s = vec(axis, out.axis); !s) return s;
         if (out.axis == glm::dvec3(0.0)) return error(axis, "must not be the zero vector");
-        if (Status s = number(member(f, "degrees"), out.degrees); !s) return s;
+        if (ToolStatus s = number(member(f, "degrees"), out.degrees); !s) return s;
         const Field pivot = member(f, "pivot");
-        if (!pivot.value) return Status::ok();
+        if (!pivot.value) return ToolStatus::ok();
         if (pivot.value->type == JsonType::string) {
-            if (pivot.value->text == "centroid") return Status::ok();
+            if (pivot.value->text == "centroid") return ToolStatus::ok();
             std::string what = "expected [x, y, z] or \"centroid\", found \"";
             what += json_printable(pivot.value->text);
             what += '"';
@@ -505,8 +501,8 @@ private:
         return vec(pivot, out.pivot);
     }
 
-    Status targets(const Field& f, std::size_t n, std::vector<glm::dvec3>& out) const {
-        if (Status s = typed(f, JsonType::array, "an array of [x, y, z] targets"); !s) return s;
+    ToolStatus targets(const Field& f, std::size_t n, std::vector<glm::dvec3>& out) const {
+        if (ToolStatus s = typed(f, JsonType::array, "an array of [x, y, z] targets"); !s) return s;
         if (f.value->items.size() != n) {
             std::string what = std::to_string(n);
             what += n == 1 ? " target, one per vertex" : " targets, one per vertex";
@@ -514,25 +510,26 @@ private:
         }
         out.resize(n);
         for (std::size_t i = 0; i < n; ++i) {
-            if (Status s = vec(item(f, i), out[i]); !s) return s;
+            if (ToolStatus s = vec(item(f, i), out[i]); !s) return s;
         }
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
-    Status solver(const Field& f, SolverSpec& out) const {
-        if (Status s = object(f, {"tolerance", "max_iterations", "handle_weight", "method"}); !s) {
+    ToolStatus solver(const Field& f, SolverSpec& out) const {
+        if (ToolStatus s = object(f, {"tolerance", "max_iterations", "handle_weight", "method"});
+            !s) {
             return s;
         }
         if (const Field t = member(f, "tolerance"); t.value) {
-            if (Status s = positive(t, out.tolerance.emplace()); !s) return s;
+            if (ToolStatus s = positive(t, out.tolerance.emplace()); !s) return s;
         }
         if (const Field m = member(f, "max_iterations"); m.value) {
             double v = 0.0;
-            if (Status s = count(m, INT_MAX, v); !s) return s;
+            if (ToolStatus s = count(m, INT_MAX, v); !s) return s;
             out.max_iterations = static_cast<int>(v);
         }
         if (const Field w = member(f, "handle_weight"); w.value) {
-            if (Status s = positive(w, out.handle_weight.emplace()); !s) return s;
+            if (ToolStatus s = positive(w, out.handle_weight.emplace()); !s) return s;
         }
         if (const Field m = member(f, "method"); m.value) {
             if (m.value->type != JsonType::string ||
@@ -541,97 +538,97 @@ private:
             }
             out.method = m.value->text;
         }
-        return Status::ok();
+        return ToolStatus::ok();
     }
 
     std::string_view source_;
 };
 
-Status out_of_memory(std::string_view source) {
+ToolStatus out_of_memory(std::string_view source) {
     std::string message(source);
     message += ": out of memory while reading the scenario";
-    return Status(DFM_ERROR_OUT_OF_MEMORY, std::move(message));
+    return ToolStatus(DFM_ERROR_OUT_OF_MEMORY, std::move(message));
 }
 
-Status read_scenario_file(const std::filesystem::path& path, std::string& text) {
+ToolStatus read_scenario_file(const std::filesystem::path& path, std::string& text) {
     const std::string name = path.string();
     std::error_code ec;
     const std::filesystem::file_status st = std::filesystem::status(path, ec);
     if (st.type() == std::filesystem::file_type::not_found) {
-        return Status(DFM_ERROR_NOT_FOUND, name + ": no such scenario file");
+        return ToolStatus(DFM_ERROR_NOT_FOUND, name + ": no such scenario file");
     }
-    if (ec) return Status(DFM_ERROR_IO, name + ": cannot access: " + ec.message());
+    if (ec) return ToolStatus(DFM_ERROR_IO, name + ": cannot access: " + ec.message());
     if (std::filesystem::is_directory(st)) {
-        return Status(DFM_ERROR_IO, name + ": is a directory, not a scenario file");
+        return ToolStatus(DFM_ERROR_IO, name + ": is a directory, not a scenario file");
     }
     // A device or pipe could feed bytes forever.
     if (!std::filesystem::is_regular_file(st)) {
-        return Status(DFM_ERROR_IO, name + ": is not a regular file");
+        return ToolStatus(DFM_ERROR_IO, name + ": is not a regular file");
     }
     std::ifstream in(path, std::ios::binary);
-    if (!in) return Status(DFM_ERROR_IO, name + ": cannot open: " + std::strerror(errno));
+    if (!in) return ToolStatus(DFM_ERROR_IO, name + ": cannot open: " + std::strerror(errno));
     char buffer[1 << 16];
     while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
         text.append(buffer, static_cast<std::size_t>(in.gcount()));
     }
-    if (in.bad()) return Status(DFM_ERROR_IO, name + ": read failed");
-    return Status::ok();
+    if (in.bad()) return ToolStatus(DFM_ERROR_IO, name + ": read failed");
+    return ToolStatus::ok();
 }
 
 }  // namespace
 
-Status parse_scenario(std::string_view text, std::string_view source, Scenario& out) {
+ToolStatus parse_scenario(std::string_view text, std::string_view source, Scenario& out) {
     out = Scenario{};
     try {
         JsonValue root;
-        if (Status s = read_json(text, source, root); !s) return s;
+        if (ToolStatus s = read_json(text, source, root); !s) return s;
         Scenario scenario;
-        if (Status s = ScenarioReader(source).scenario(root, scenario); !s) return s;
+        if (ToolStatus s = ScenarioReader(source).scenario(root, scenario); !s) return s;
         out = std::move(scenario);
-        return Status::ok();
+        return ToolStatus::ok();
     } catch (const std::bad_alloc&) {
         return out_of_memory(source);
     }
 }
 
-Status parse_camera(std::string_view text, std::string_view source, dfm_camera& out) {
+ToolStatus parse_camera(std::string_view text, std::string_view source, dfm_camera& out) {
     out = dfm_camera{};
     try {
         JsonValue root;
-        if (Status s = read_json(text, source, root); !s) return s;
+        if (ToolStatus s = read_json(text, source, root); !s) return s;
         dfm_camera camera{};
-        if (Status s = ScenarioReader(source).camera_document(root, camera); !s) return s;
+        if (ToolStatus s = ScenarioReader(source).camera_document(root, camera); !s) return s;
         out = camera;
-        return Status::ok();
+        return ToolStatus::ok();
     } catch (const std::bad_alloc&) {
         return out_of_memory(source);
     }
 }
 
-Status read_camera_argument(std::string_view argument, dfm_camera& out) {
+ToolStatus read_camera_argument(std::string_view argument, dfm_camera& out) {
     const std::size_t start = argument.find_first_not_of(" \t\r\n");
     if (start != std::string_view::npos && argument[start] == '{') {
         return parse_camera(argument, "--camera", out);
     }
     const std::string path(argument);
     std::ifstream in(path, std::ios::binary);
-    if (!in) return Status(DFM_ERROR_IO, path + ": cannot open: " + std::strerror(errno));
+    if (!in) return ToolStatus(DFM_ERROR_IO, path + ": cannot open: " + std::strerror(errno));
     std::ostringstream text;
     text << in.rdbuf();
-    if (in.bad()) return Status(DFM_ERROR_IO, path + ": read failed");
+    if (in.bad()) return ToolStatus(DFM_ERROR_IO, path + ": read failed");
     return parse_camera(text.str(), path, out);
 }
 
-Status load_scenario(const std::filesystem::path& path, Scenario& out) {
+ToolStatus load_scenario(const std::filesystem::path& path, Scenario& out) {
     out = Scenario{};
     try {
         std::string text;
-        if (Status s = read_scenario_file(path, text); !s) return s;
+        if (ToolStatus s = read_scenario_file(path, text); !s) return s;
         Scenario scenario;
-        if (Status s = parse_scenario(text, path.string(), scenario); !s) return s;
+        if (ToolStatus s = parse_scenario(text, path.string(), scenario); !s) return s;
         scenario.base_dir = path.parent_path();
         out = std::move(scenario);
-        return Status::ok();
+        return ToolStatus::ok();
     } catch (const std::bad_alloc&) {
         return out_of_memory(path.string());
     }

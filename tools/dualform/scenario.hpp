@@ -11,7 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include "dualform/dualform.h"
-#include "dualform/tool_status.hpp"
+#include "status/tool_status.hpp"
 
 // An edit scenario as docs/scenarios.md defines it, parsed and checked
 // for form (types, required fields, unknown fields) but not yet against a
@@ -78,17 +78,17 @@ inline constexpr int max_subdivisions = 3;
 // Parses scenario JSON; `source` names it in messages. Errors name the
 // source, the line and column, and the field path (e.g.
 // "cow.json:7:12: handles[1].rotate.degrees: expected a number").
-Status parse_scenario(std::string_view text, std::string_view source, Scenario& out);
+ToolStatus parse_scenario(std::string_view text, std::string_view source, Scenario& out);
 
 // Parses a CAMERA object on its own, checked as inside a scenario; errors
 // are located the same way.
-Status parse_camera(std::string_view text, std::string_view source, dfm_camera& out);
+ToolStatus parse_camera(std::string_view text, std::string_view source, dfm_camera& out);
 
 // A --camera argument: CAMERA JSON written inline when its first non-blank
 // character is '{', otherwise the path of a file holding it.
-Status read_camera_argument(std::string_view argument, dfm_camera& out);
+ToolStatus read_camera_argument(std::string_view argument, dfm_camera& out);
 
 // Reads and parses a scenario file; base_dir is set to its folder.
-Status load_scenario(const std::filesystem::path& path, Scenario& out);
+ToolStatus load_scenario(const std::filesystem::path& path, Scenario& out);
 
 }  // namespace dfm::cli

@@ -122,14 +122,14 @@ public:
     Parser(std::string_view text, std::string_view source, const JsonOptions& options)
         : text_(text), source_(source), options_(options) {}
 
-    JsonStatus document(JsonValue& out) {
+    ToolStatus document(JsonValue& out) {
         // A byte order mark is invisible in editors, so the column stays 1.
         if (text_.starts_with("\xef\xbb\xbf")) pos_ = 3;
         skip_whitespace();
-        if (JsonStatus s = value(out, 0); !s) return s;
+        if (ToolStatus s = value(out, 0); !s) return s;
         skip_whitespace();
         if (!at_end()) return expected("the end of the text after the top-level value");
-        return JsonStatus::ok();
+        return ToolStatus::ok();
     }
 
 private:
@@ -155,15 +155,15 @@ private:
         }
     }
 
-    JsonStatus error(JsonPosition at, std::string_view what) const {
+    ToolStatus error(JsonPosition at, std::string_view what) const {
         std::string message = json_location(source_, at);
         message += what;
-        return JsonStatus(JsonStatus::Code::parse_error, std::move(message));
+        return ToolStatus(DFM_ERROR_PARSE, std::move(message));
     }
 
     // "expected WHAT, found ..." describing what the cursor is on.
-    JsonStatus expected(std::string_view what) const { return expected(here_, what); }
-    JsonStatus expected(JsonPosition at, std::string_view what) const {
+    ToolStatus expected(std::string_view what) const { return expected(here_, what); }
+    ToolStatus expected(JsonPosition at, std::string_view what) const {
         std::string message = "expected ";
         message += what;
         message += ", found ";
@@ -193,7 +193,7 @@ private:
         return out;
     }
 
-    JsonStatus value(JsonValue& out, std::size_t depth) {
+    ToolStatus value(JsonValue& out, std::size_t depth) {
         out.at = here_;
         const char c = peek();
         if (c == '{' || c == '[') {
@@ -218,7 +218,7 @@ private:
         } else if (!literal("null")) {
             return expected("a value");
         }
-        return JsonStatus::ok();
+        return ToolStatus::ok();
     }
 
     // Consumes `word` when the text continues with it as a whole word.
@@ -234,7 +234,7 @@ private:
         while (is_digit(peek())) advance();
     }
 
-    JsonStatus number(JsonValue& out) {
+    ToolStatus number(JsonValue& out) {
         const std::size_t start = pos_;
         out.type = JsonType::number;
         out.integer = true;
@@ -267,7 +267,7 @@ private:
                 out.number = t.front() == '-' ? -std::numeric_limits<double>::infinity()
                                               : std::numeric_limits<double>::infinity();
                 out.text = std::string(t);
-                return JsonStatus::ok();
+                return ToolStatus::ok();
             }
             if (overflows(t)) {
                 std::string what = "the number ";
@@ -279,10 +279,10 @@ private:
         } else if (ec != std::errc()) {
             return error(out.at, "unreadable number");
         }
-        return JsonStatus::ok();
+        return ToolStatus::ok();
     }
 
-    JsonStatus string(std::string& out) {
+    ToolStatus string(std::string& out) {
         const JsonPosition open = here_;
         advance();
         for (;;) {
@@ -297,10 +297,10 @@ private:
             const auto u = static_cast<unsigned char>(c);
             if (c == '"') {
                 advance();
-                return JsonStatus::ok();
+                return ToolStatus::ok();
             }
             if (c == '\\') {
-                if (JsonStatus s = escape(out); !s) return s;
+                if (ToolStatus s = escape(out); !s) return s;
             } else if (u < 0x20) {
                 std::string what = "a control character (";
                 append_hex_byte(what, u);
@@ -322,7 +322,7 @@ private:
         }
     }
 
-    JsonStatus escape(std::string& out) {
+    ToolStatus escape(std::string& out) {
         const JsonPosition at = here_;
         advance();
         char decoded = '\0';
@@ -340,11 +340,11 @@ private:
         }
         out += decoded;
         advance();
-        return JsonStatus::ok();
+        return ToolStatus::ok();
     }
 
     // Reads the four hex digits of a \u escape, the cursor on the 'u'.
-    JsonStatus code_unit(std::uint32_t& unit) {
+    ToolStatus code_unit(std::uint32_t& unit) {
         advance();
         unit = 0;
         for (int i = 0; i < 4; ++i) {
@@ -353,12 +353,12 @@ private:
             unit = unit * 16 + static_cast<std::uint32_t>(v);
             advance();
         }
-        return JsonStatus::ok();
+        return ToolStatus::ok();
     }
 
-    JsonStatus unicode_escape(std::string& out, JsonPosition at) {
+    ToolStatus unicode_escape(std::string& out, JsonPosition at) {
         std::uint32_t unit = 0;
-        if (JsonStatus s = code_unit(unit); !s) return s;
+        if (ToolStatus s = code_unit(unit); !s) return s;
         const std::string_view written = text_.substr(pos_ - 6, 6);
         if (unit >= 0xdc00 && unit <= 0xdfff) {
             std::string what = "the low surrogate ";
@@ -372,7 +372,7 @@ private:
             std::uint32_t low = 0;
             if (escaped) {
                 advance();
-                if (JsonStatus s = code_unit(low); !s) return s;
+                if (ToolStatus s = code_unit(low); !s) return s;
             }
             if (low < 0xdc00 || low > 0xdfff) {
                 std::string what = "the high surrogate ";
@@ -383,24 +383,24 @@ private:
             unit = 0x10000 + ((unit - 0xd800) << 10) + (low - 0xdc00);
         }
         append_utf8(out, unit);
-        return JsonStatus::ok();
+        return ToolStatus::ok();
     }
 
-    JsonStatus array(JsonValue& out, std::size_t depth) {
+    ToolStatus array(JsonValue& out, std::size_t depth) {
         out.type = JsonType::array;
         advance();
         skip_whitespace();
         if (peek() == ']') {
             advance();
-            return JsonStatus::ok();
+            return ToolStatus::ok();
         }
         for (;;) {
             out.items.emplace_back();
-            if (JsonStatus s = value(out.items.back(), depth); !s) return s;
+            if (ToolStatus s = value(out.items.back(), depth); !s) return s;
             skip_whitespace();
             if (peek() == ']') {
                 advance();
-                return JsonStatus::ok();
+                return ToolStatus::ok();
             }
             if (peek() != ',') return expected("',' or ']' after an array element");
             advance();
@@ -408,13 +408,13 @@ private:
         }
     }
 
-    JsonStatus object(JsonValue& out, std::size_t depth) {
+    ToolStatus object(JsonValue& out, std::size_t depth) {
         out.type = JsonType::object;
         advance();
         skip_whitespace();
         if (peek() == '}') {
             advance();
-            return JsonStatus::ok();
+            return ToolStatus::ok();
         }
         // Copies of the keys: the members' own strings move as the vector grows.
         std::unordered_set<std::string> keys;
@@ -425,17 +425,17 @@ private:
             }
             JsonMember& m = out.members.emplace_back();
             m.at = here_;
-            if (JsonStatus s = string(m.key); !s) return s;
+            if (ToolStatus s = string(m.key); !s) return s;
             if (!keys.insert(m.key).second) return duplicate_key(out.members);
             skip_whitespace();
             if (peek() != ':') return expected("':' after an object key");
             advance();
             skip_whitespace();
-            if (JsonStatus s = value(m.value, depth); !s) return s;
+            if (ToolStatus s = value(m.value, depth); !s) return s;
             skip_whitespace();
             if (peek() == '}') {
                 advance();
-                return JsonStatus::ok();
+                return ToolStatus::ok();
             }
             if (peek() != ',') return expected("',' or '}' after an object member");
             advance();
@@ -444,7 +444,7 @@ private:
     }
 
     // The last of `members` repeats an earlier key.
-    JsonStatus duplicate_key(const std::vector<JsonMember>& members) const {
+    ToolStatus duplicate_key(const std::vector<JsonMember>& members) const {
         const JsonMember& again = members.back();
         JsonPosition first;
         for (const JsonMember& m : members) {
@@ -520,23 +520,23 @@ const JsonMember* JsonValue::find(std::string_view key) const {
     return nullptr;
 }
 
-JsonStatus parse_json(std::string_view text, std::string_view source, JsonValue& out) {
+ToolStatus parse_json(std::string_view text, std::string_view source, JsonValue& out) {
     return parse_json(text, source, JsonOptions{}, out);
 }
 
-JsonStatus parse_json(std::string_view text, std::string_view source, const JsonOptions& options,
+ToolStatus parse_json(std::string_view text, std::string_view source, const JsonOptions& options,
                       JsonValue& out) {
     out = JsonValue{};
     try {
         JsonValue root;
         Parser parser(text, source, options);
-        if (JsonStatus s = parser.document(root); !s) return s;
+        if (ToolStatus s = parser.document(root); !s) return s;
         out = std::move(root);
-        return JsonStatus::ok();
+        return ToolStatus::ok();
     } catch (const std::bad_alloc&) {
         std::string message(source);
         message += ": out of memory while reading JSON";
-        return JsonStatus(JsonStatus::Code::out_of_memory, std::move(message));
+        return ToolStatus(DFM_ERROR_OUT_OF_MEMORY, std::move(message));
     }
 }
 

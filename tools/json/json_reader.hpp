@@ -3,34 +3,16 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
-#include <utility>
 #include <vector>
+
+#include "status/tool_status.hpp"
 
 // A strict JSON reader (RFC 8259) into a small DOM whose every value knows
 // where it was written, so that a caller checking the document's form can
 // name the line and column of what it rejects. The project's one JSON module
 // (with json_writer.hpp): the tools, the viewer and the benchmarks share it.
-// It depends on nothing but the standard library.
+// It depends on nothing but the standard library and the tools' status type.
 namespace dfm::json {
-
-// The outcome of parsing: ok, or a message that starts with its location.
-class JsonStatus {
-public:
-    enum class Code { ok, parse_error, out_of_memory };
-
-    JsonStatus() = default;
-    JsonStatus(Code code, std::string message) : code_(code), message_(std::move(message)) {}
-    static JsonStatus ok() { return {}; }
-
-    bool is_ok() const { return code_ == Code::ok; }
-    explicit operator bool() const { return is_ok(); }
-    Code code() const { return code_; }
-    const std::string& message() const { return message_; }
-
-private:
-    Code code_ = Code::ok;
-    std::string message_;
-};
 
 enum class JsonType { null, boolean, number, string, array, object };
 
@@ -87,14 +69,15 @@ inline constexpr std::size_t json_max_depth = 256;
 // lone surrogates; a duplicate key is an error, and so is a number beyond
 // the range of a double (one too close to zero rounds to zero). A leading
 // UTF-8 byte order mark is skipped. `source` names the text in messages:
-// "SOURCE:LINE:COL: expected ..., found ...". On failure `out` is null.
-// Never throws; safe on any bytes. Thread-safe.
-JsonStatus parse_json(std::string_view text, std::string_view source, JsonValue& out);
+// "SOURCE:LINE:COL: expected ..., found ..." (DFM_ERROR_PARSE; running out
+// of memory is DFM_ERROR_OUT_OF_MEMORY). On failure `out` is null. Never
+// throws; safe on any bytes. Thread-safe.
+ToolStatus parse_json(std::string_view text, std::string_view source, JsonValue& out);
 
 struct JsonOptions {
     bool keep_huge_numbers = false;  // see JsonValue::beyond_double
 };
-JsonStatus parse_json(std::string_view text, std::string_view source, const JsonOptions& options,
+ToolStatus parse_json(std::string_view text, std::string_view source, const JsonOptions& options,
                       JsonValue& out);
 
 }  // namespace dfm::json

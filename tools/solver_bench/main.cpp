@@ -160,13 +160,9 @@ int main(int argc, char** argv) {
                 .field("subdivisions", static_cast<std::size_t>(level))
                 .field("unknowns", n)
                 .field("nonzeros", system.matrix.nonzeros())
-                .key("factor")
-                .begin_array();
-            for (const solver::OrderingMethod ordering :
-                 {solver::OrderingMethod::minimum_degree,
-                  solver::OrderingMethod::nested_dissection})
-                write_factor(json, measure_factor(system, ordering, pool, repeat));
-            json.end_array();
+                .key("factor");
+            write_factor(json, measure_factor(system, solver::OrderingMethod::minimum_degree, pool,
+                                              repeat));
 #ifdef DFM_SOLVER_BENCH_CHOLMOD
             const CholmodMeasure cholmod = measure_cholmod(system, repeat);
             if (cholmod.ok) {

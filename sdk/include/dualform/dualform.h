@@ -239,11 +239,24 @@ typedef struct dfm_context_desc {
      * thread; 0 lets Embree start one per hardware thread (its default,
      * named by Embree). At most 1024. */
     uint32_t pick_thread_count;
-    /* The folder in which dfm_mesh_load finds "model:NAME" (as NAME.off);
-     * copied at creation. NULL or "": no folder, and model:NAME is
-     * DFM_ERROR_NOT_FOUND. The library reads no environment variable: a host
-     * that wants DUALFORM_MODELS reads it and passes it here. */
+    /* The folder in which dfm_mesh_load finds "model:NAME" (as NAME.off;
+     * NAME is a plain file name, no folder in it); copied at creation. NULL
+     * or "": no folder, and model:NAME is DFM_ERROR_NOT_FOUND. The library
+     * reads no environment variable: a host that wants DUALFORM_MODELS reads
+     * it and passes it here. */
     const char* models_directory;
+    /* Where the files a loaded file refers to may also lie. A glTF
+     * document's external buffers (relative URIs) are read only inside the
+     * document's own folder: a URI that is absolute, has a scheme (file:,
+     * http:) or leads out of the folder through ".." is refused, and the load
+     * fails with DFM_ERROR_UNSUPPORTED naming the URI, so that an asset
+     * cannot read (and a save then embed) any other file the process can
+     * read. A folder named here widens that: URIs may also lead anywhere
+     * inside it (still relative, never a scheme). Copied at creation; a
+     * relative path is taken from the working folder of each load. NULL or
+     * "": the document's folder only. The other formats follow no reference
+     * (OBJ's mtllib is skipped). */
+    const char* reference_folder;
     /* Where the work runs; 0: DFM_WORK_POOL. */
     dfm_work_mode work_mode;
     /* DFM_WORK_JOB_SYSTEM: the host's job system, `enqueue` required; all
@@ -343,7 +356,8 @@ DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_mesh_desc* de
  * "FILE.glb#mesh=NAME" (or its index), in its own space; split copies are
  * welded exactly and numbered as the file has them (see dfm_mesh_desc).
  * Unsupported data (Draco, quantized positions) is refused naming the mesh,
- * primitive and accessor. Errors name the file,
+ * primitive and accessor; external buffers are read only inside the file's
+ * folder (see dfm_context_desc.reference_folder). Errors name the file,
  * line or byte offset and element. Recoverable defects go to the log
  * (DFM_LOG_ID_LOAD_WARNING). *out is owned by the caller. Thread-safe. */
 DFM_API dfm_result dfm_mesh_load(dfm_context* context, const char* path, dfm_mesh** out);

@@ -10,7 +10,8 @@ import argparse
 import sys
 from typing import List, Optional
 
-from .scenario import ScenarioError, SolveError, report_json, run_deform, write_text_file
+from .scenario import (ScenarioError, SolveError, WorkError, report_json, run_deform,
+                       write_text_file)
 from .types import Method
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
@@ -49,6 +50,9 @@ def main(argv: Optional[List[str]] = None) -> int:
         report = run_deform(args.scenario, args.out, hard_handles=args.hard_handles,
                             method=method, morph_target=args.morph_target, roi_out=args.roi_out,
                             warn=_warning)
+    except WorkError as error:
+        _error(str(error))
+        return EXIT_BAD_INPUT if error.bad_input else EXIT_FAILED
     except ScenarioError as error:
         _error(str(error))
         return EXIT_BAD_INPUT
@@ -60,9 +64,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     if args.report:
         try:
             write_text_file(args.report, text)
-        except ScenarioError as error:
+        except WorkError as error:
             _error(str(error))
-            return EXIT_BAD_INPUT
+            return EXIT_BAD_INPUT if error.bad_input else EXIT_FAILED
     if args.strict and not report["converged"]:
         _error(f"did not converge in {report['iterations']} iterations (last update "
                f"{report['last_update']:g} of the diagonal)")

@@ -84,6 +84,7 @@ class ContextDesc(Structure):
         ("worker_count", c_uint32),
         ("pick_thread_count", c_uint32),
         ("models_directory", c_char_p),
+        ("reference_folder", c_char_p),
         ("work_mode", c_int),
         ("job_system", JobSystem),
     ]

@@ -23,12 +23,27 @@ from .scenario_format import Ball, HandleSpec, RoiSpec, Scenario, ScenarioError,
 from .session import Session
 from .types import Camera, LogId, LogLevel, Method
 
-__all__ = ["Edit", "ScenarioError", "SolveError", "load_scenario", "open_mesh", "report_json",
-           "resolve_edit", "run_deform", "select_roi", "write_text_file"]
+__all__ = ["Edit", "ScenarioError", "SolveError", "WorkError", "load_scenario", "open_mesh",
+           "report_json", "resolve_edit", "run_deform", "select_roi", "write_text_file"]
 
 
 class SolveError(RuntimeError):
     """The scenario was fine but its solve failed: the tool's exit 1."""
+
+
+class WorkError(ScenarioError):
+    """A step of the work on an accepted scenario failed: the session, the
+    save or an output file. As the tool's work_failure: bad input (exit 2)
+    where the library refused what the scenario asked of it, else exit 1
+    (an output it could not write, a breakdown, no memory)."""
+
+    REFUSED = frozenset({Result.ERROR_INVALID_ARGUMENT, Result.ERROR_NOT_FOUND,
+                         Result.ERROR_PARSE, Result.ERROR_OUT_OF_RANGE,
+                         Result.ERROR_UNSUPPORTED})
+
+    @property
+    def bad_input(self) -> bool:
+        return self.result in self.REFUSED
 
 
 def _api(error: DualformError, what: str = "") -> ScenarioError:
@@ -222,7 +237,7 @@ def write_text_file(path: os.PathLike, text: str) -> None:
         with open(path, "w") as f:
             f.write(text + "\n")
     except OSError:
-        raise ScenarioError(f"{os.fspath(path)}: cannot write", Result.ERROR_IO) from None
+        raise WorkError(f"{os.fspath(path)}: cannot write", Result.ERROR_IO) from None
 
 
 def _quality(quality) -> dict:
@@ -245,8 +260,10 @@ def run_deform(scenario_path: os.PathLike, out_path: os.PathLike, *,
     from one; with ``morph_target``, as a morph target of that name) and,
     with ``roi_out``, the ROI's vertices one a line. Returns the tool's
     report (the same keys, in its order). Bad input raises
-    :class:`ScenarioError`, a failed solve :class:`SolveError`, both with
-    the tool's message; ``warn`` hears each load warning."""
+    :class:`ScenarioError`, a failed step of the work (the session, the
+    save, an output file) :class:`WorkError` (a ScenarioError), a failed
+    solve :class:`SolveError`, each with the tool's message; ``warn`` hears
+    each load warning."""
     source = os.fspath(scenario_path)
     scenario = load_scenario(source)
     start = time.perf_counter()
@@ -266,13 +283,12 @@ def run_deform(scenario_path: os.PathLike, out_path: os.PathLike, *,
             try:
                 session = Session(mesh, edit.roi, edit.groups, **solver)
             except DualformError as error:
-                raise ScenarioError(f"{source}: {error.message}", Result(error.result)) from None
+                raise WorkError(f"{source}: {error.message}", Result(error.result)) from None
             with session:
                 try:
                     session.set_targets(edit.targets)
                 except DualformError as error:
-                    raise ScenarioError(f"{source}: {error.message}",
-                                        Result(error.result)) from None
+                    raise WorkError(f"{source}: {error.message}", Result(error.result)) from None
                 setup_ms = (time.perf_counter() - setup_start) * 1000.0
                 try:
                     session.solve()
@@ -290,7 +306,7 @@ def run_deform(scenario_path: os.PathLike, out_path: os.PathLike, *,
                 mesh.set_positions(positions)
                 mesh.save(out_path, morph_target=morph_target)
             except DualformError as error:
-                raise ScenarioError(error.message, Result(error.result)) from None
+                raise WorkError(error.message, Result(error.result)) from None
             roi_vertices = edit.roi.vertices()
         if roi_out is not None:
             write_text_file(roi_out, "\n".join(map(str, roi_vertices.tolist())))

@@ -73,6 +73,19 @@ def test_malformed_meshes_answer_alike(mesh, cli, tmp_path, monkeypatch):
     assert package == tool
 
 
+def test_an_output_that_cannot_be_written_exits_1_from_both(cli, tmp_path, monkeypatch):
+    scenario = str(SCENARIOS / "scale-cow-leg.json")
+    nowhere = tmp_path / "no-such-folder"
+    for args in ([scenario, "--out", str(nowhere / "x.off")],
+                 [scenario, "--out", str(tmp_path / "x.off"), "--roi-out", str(nowhere / "r.txt")]):
+        tool, package = both(cli, args, tmp_path, monkeypatch)
+        assert tool[0] == 1 and tool[2].startswith("error: ") and "no-such-folder" in tool[2]
+        assert package == tool
+    # An output format the library does not write stays bad input.
+    tool, package = both(cli, [scenario, "--out", str(tmp_path / "x.stl")], tmp_path, monkeypatch)
+    assert tool[0] == 2 and package == tool
+
+
 def test_a_glTF_morph_target_edit_gives_the_same_files_and_report(cli, tmp_path, monkeypatch):
     with dfm.Context() as ctx, dfm.Mesh.load(ctx, "model:cow") as cow:
         cow.save(tmp_path / "cow.glb")

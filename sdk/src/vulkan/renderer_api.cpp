@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "c_boundary.hpp"
 #include "camera_convert.hpp"
 #include "dualform/dualform_vulkan.h"
 #include "render/png_writer.hpp"
@@ -13,7 +14,6 @@
 #include "render/validation.hpp"
 #include "render/view_transform.hpp"
 #include "vec3_arrays.hpp"
-#include "vulkan_boundary.hpp"
 
 // A handle carries a tag, so a destroyed or foreign pointer is caught where
 // the memory still holds it.
@@ -30,7 +30,6 @@ namespace {
 using dfm::sdk::fail;
 using dfm::sdk::guarded;
 using dfm::sdk::report;
-using dfm::sdk::report_render;
 namespace render = dfm::render;
 
 bool live(const dfm_vk_renderer* r) {
@@ -110,8 +109,8 @@ dfm_result present_frame(const char* fn, dfm_vk_renderer* renderer, const dfm_vk
     if (dfm_result r = to_view(fn, frame, 1, 1, view); r != DFM_OK) return r;
     bool shown = false;
     renderer->overlay_result = DFM_OK;
-    if (render::RenderStatus s = renderer->impl->present(view, shown, rgba); !s) {
-        return report_render(fn, s);
+    if (dfm::Status s = renderer->impl->present(view, shown, rgba); !s) {
+        return report(fn, s);
     }
     if (presented != nullptr) *presented = shown;
     if (renderer->overlay_result != DFM_OK) {
@@ -143,8 +142,8 @@ DFM_API dfm_result dfm_vk_renderer_create_headless(const dfm_vk_renderer_desc* d
         const render::OwnDeviceOptions options = own_options(fn, desc, checked);
         if (checked != DFM_OK) return checked;
         std::unique_ptr<render::Renderer> impl;
-        if (render::RenderStatus s = render::Renderer::create_headless(options, impl); !s) {
-            return report_render(fn, s);
+        if (dfm::Status s = render::Renderer::create_headless(options, impl); !s) {
+            return report(fn, s);
         }
         return wrap(std::move(impl), out);
     });
@@ -183,10 +182,9 @@ DFM_API dfm_result dfm_vk_renderer_create_for_window(const dfm_vk_renderer_desc*
             return VkExtent2D{width, height};
         };
         std::unique_ptr<render::Renderer> impl;
-        if (render::RenderStatus s =
-                render::Renderer::create_window(options, std::move(surface), impl);
+        if (dfm::Status s = render::Renderer::create_window(options, std::move(surface), impl);
             !s) {
-            return report_render(fn, s);
+            return report(fn, s);
         }
         return wrap(std::move(impl), out);
     });
@@ -216,8 +214,8 @@ DFM_API dfm_result dfm_vk_renderer_create_host(const dfm_vk_host_desc* desc,
         host.formats.samples = desc->samples == 0 ? VK_SAMPLE_COUNT_1_BIT : desc->samples;
         if (desc->frames_in_flight != 0) host.frames_in_flight = desc->frames_in_flight;
         std::unique_ptr<render::Renderer> impl;
-        if (render::RenderStatus s = render::Renderer::create_host(host, impl); !s) {
-            return report_render(fn, s);
+        if (dfm::Status s = render::Renderer::create_host(host, impl); !s) {
+            return report(fn, s);
         }
         return wrap(std::move(impl), out);
     });
@@ -243,8 +241,8 @@ DFM_API dfm_result dfm_vk_renderer_set_mesh(dfm_vk_renderer* renderer,
         if (triangle_count > SIZE_MAX / 3) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, "triangle_count is too large");
         }
-        return report_render(fn, renderer->impl->set_mesh(to_strided(*positions),
-                                                          {triangle_indices, triangle_count * 3}));
+        return report(fn, renderer->impl->set_mesh(to_strided(*positions),
+                                                   {triangle_indices, triangle_count * 3}));
     });
 }
 
@@ -256,7 +254,7 @@ DFM_API dfm_result dfm_vk_renderer_update_positions(dfm_vk_renderer* renderer,
         if (positions == nullptr)
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, "positions is NULL");
         if (dfm_result r = check_scalar(fn, *positions); r != DFM_OK) return r;
-        return report_render(fn, renderer->impl->set_positions(to_strided(*positions)));
+        return report(fn, renderer->impl->set_positions(to_strided(*positions)));
     });
 }
 
@@ -268,7 +266,7 @@ DFM_API dfm_result dfm_vk_renderer_set_marks(dfm_vk_renderer* renderer, const ui
         if (marks == nullptr && count != 0) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, "marks is NULL but count is not 0");
         }
-        return report_render(
+        return report(
             fn, renderer->impl->set_marks({marks, marks == nullptr ? std::size_t{0} : count}));
     });
 }
@@ -303,7 +301,7 @@ DFM_API dfm_result dfm_vk_renderer_set_lines(dfm_vk_renderer* renderer,
                 polylines[i].color = {c[0], c[1], c[2], c[3]};
             }
         }
-        return report_render(fn, renderer->impl->set_lines(polylines));
+        return report(fn, renderer->impl->set_lines(polylines));
     });
 }
 
@@ -322,8 +320,8 @@ DFM_API dfm_result dfm_vk_renderer_render_offscreen(dfm_vk_renderer* renderer,
                 "rgba_size must be camera.width * camera.height * 4 = " +
                     std::to_string(std::size_t{view.camera.width} * view.camera.height * 4));
         }
-        return report_render(fn, renderer->impl->render_offscreen(
-                                     view, {rgba, rgba == nullptr ? std::size_t{0} : rgba_size}));
+        return report(fn, renderer->impl->render_offscreen(
+                              view, {rgba, rgba == nullptr ? std::size_t{0} : rgba_size}));
     });
 }
 
@@ -379,7 +377,7 @@ DFM_API dfm_result dfm_vk_renderer_set_overlay(dfm_vk_renderer* renderer,
             target.image_count = t.image_count;
             target.swapchain_generation = t.swapchain_generation;
             *result = overlay.record(overlay.user, &target);
-            return render::RenderStatus::ok();
+            return dfm::Status::ok();
         });
         return DFM_OK;
     });
@@ -417,7 +415,7 @@ DFM_API dfm_result dfm_vk_renderer_record_upload(dfm_vk_renderer* renderer, VkCo
     const char* fn = "dfm_vk_renderer_record_upload";
     return guarded(fn, [&]() -> dfm_result {
         if (!live(renderer)) return bad_handle(fn);
-        return report_render(fn, renderer->impl->record_upload(cmd));
+        return report(fn, renderer->impl->record_upload(cmd));
     });
 }
 
@@ -432,7 +430,7 @@ DFM_API dfm_result dfm_vk_renderer_record_draw(dfm_vk_renderer* renderer, VkComm
         }
         render::ViewSettings view;
         if (dfm_result r = to_view(fn, frame, width, height, view); r != DFM_OK) return r;
-        return report_render(fn, renderer->impl->record_draw(cmd, view, {width, height}));
+        return report(fn, renderer->impl->record_draw(cmd, view, {width, height}));
     });
 }
 
@@ -487,7 +485,7 @@ DFM_API dfm_result dfm_vk_write_png(const char* path, const uint8_t* rgba, size_
         if (path == nullptr || rgba == nullptr) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, "path or rgba is NULL");
         }
-        return report_render(fn, render::write_png(path, {rgba, rgba_size}, width, height));
+        return report(fn, render::write_png(path, {rgba, rgba_size}, width, height));
     });
 }
 

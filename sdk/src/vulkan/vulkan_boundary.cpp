@@ -1,6 +1,6 @@
-#include "vulkan_boundary.hpp"
-
 #include <cstdio>
+
+#include "error_state.hpp"
 
 namespace dfm::sdk {
 
@@ -11,21 +11,6 @@ dfm_result fail_parts(dfm_result code, const char* function, const char* what) n
     char message[1024];
     std::snprintf(message, sizeof message, "%s: %s", function, what);
     return dfm_detail_set_error(code, message);
-}
-
-dfm_result report_render(const char* function, const render::RenderStatus& status) {
-    switch (status.fault()) {
-        case render::Fault::none: return DFM_OK;
-        case render::Fault::invalid_argument:
-            return report(function, DFM_ERROR_INVALID_ARGUMENT, status.message());
-        case render::Fault::unsupported:
-            return report(function, DFM_ERROR_UNSUPPORTED, status.message());
-        case render::Fault::io_error: return report(function, DFM_ERROR_IO, status.message());
-        case render::Fault::out_of_memory:
-            return report(function, DFM_ERROR_OUT_OF_MEMORY, status.message());
-        case render::Fault::device: return report(function, DFM_ERROR_DEVICE, status.message());
-    }
-    return report(function, DFM_ERROR_DEVICE, status.message());
 }
 
 }  // namespace dfm::sdk

@@ -1,4 +1,4 @@
-#include "render/render_status.hpp"
+#include "render/vulkan_result.hpp"
 
 namespace dfm::render {
 
@@ -26,13 +26,13 @@ const char* vk_result_name(VkResult result) {
     }
 }
 
-RenderStatus vk_failure(VkResult result, const char* call) {
-    const Fault fault =
+Status vk_failure(VkResult result, const char* call) {
+    const Errc code =
         (result == VK_ERROR_OUT_OF_HOST_MEMORY || result == VK_ERROR_OUT_OF_DEVICE_MEMORY)
-            ? Fault::out_of_memory
-            : Fault::device;
-    return RenderStatus(fault, std::string(call) + " failed: " + vk_result_name(result) + " (" +
-                                   std::to_string(static_cast<int>(result)) + ")");
+            ? Errc::out_of_memory
+            : Errc::device;
+    return Status(code, std::string(call) + " failed: " + vk_result_name(result) + " (" +
+                            std::to_string(static_cast<int>(result)) + ")");
 }
 
 }  // namespace dfm::render
