@@ -286,7 +286,7 @@ DFM_API void dfm_context_destroy(dfm_context* context);
 /* Runs a job the host's job system was handed (dfm_job_system.enqueue), on
  * the calling thread: a piece of the work, or nothing when the work is
  * already done. Every job handed over is run exactly once, also while the
- * context is being destroyed. Thread-safe. */
+ * context is being destroyed. NULL is a no-op. Thread-safe. */
 DFM_API void dfm_job_run(dfm_job* job);
 
 /* DFM_WORK_HOST_STEPPED: runs the context's queued work on the calling
