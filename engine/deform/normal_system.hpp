@@ -14,6 +14,11 @@
 // an unknown, and the normal matrix N = AᵀA + w² H + ε I over the unknowns.
 namespace dfm::deform {
 
+// ε's weight relative to N's mean diagonal. The ε term ties what D cannot
+// see (the three-colour pattern of docs/design.md) to the previous iterate;
+// it vanishes at the fixed point, so it never moves the result.
+inline constexpr double relative_regularization = 1e-9;
+
 // The vertices a solve moves, numbered 0..count-1.
 struct UnknownMap {
     std::vector<std::uint32_t> unknown_of_vertex;  // no_index for a fixed vertex
@@ -40,15 +45,6 @@ struct SystemRows {
     }
 
     std::size_t size() const { return faces.size(); }
-
-    // Frees everything but `faces`, for an iteration that reads the rows
-    // from elsewhere (swapped with empty arrays: assigning {} would keep
-    // the capacity).
-    void release_entries() {
-        decltype(entry_offsets)().swap(entry_offsets);
-        decltype(entries)().swap(entries);
-        decltype(centroid_faces)().swap(centroid_faces);
-    }
 };
 
 SystemRows collect_rows(const MeshModel& model, const UnknownMap& unknowns);

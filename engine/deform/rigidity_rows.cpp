@@ -57,16 +57,16 @@ constexpr double coarse_share = 0.5;
 
 }  // namespace
 
-double balanced_rigidity_weight(double weight, std::size_t unknowns) {
+double balanced_rigidity_weight(std::size_t unknowns) {
     const double ratio = static_cast<double>(balance_unknowns) /
                          static_cast<double>(std::max<std::size_t>(unknowns, 1));
-    return weight * std::sqrt(std::min(1.0, ratio));
+    return rigidity_weight * std::sqrt(std::min(1.0, ratio));
 }
 
-void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, double weight,
+void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
                            const SystemRows& rows) {
     const mesh::Mesh& mesh = model.mesh;
-    weight = balanced_rigidity_weight(weight, unknowns.count());
+    const double weight = balanced_rigidity_weight(unknowns.count());
     const std::size_t dual_rows = rows.size();
     // Edge rows are relative: a needle's short edge gets the weight of its
     // shortness. Lengths alone would let needles (the camel's head has edges
@@ -130,17 +130,15 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns, d
             b[k + 1][sc] += cc;
             b[k + 1][sd] += dc;
         };
-        if (weight > 0.0) {
-            for (int k = 0; k < 3; ++k) {
-                const std::uint32_t j = model.dual.neighbors[f][k];
-                const std::uint32_t c = opposite_vertex(t, mesh.triangles[j]);
-                const std::uint32_t d = opposite_vertex(mesh.triangles[j], t);
-                if (c != mesh::no_index && d != mesh::no_index) add_pair(c, d, 1.0 / 3.0);
-                const std::uint32_t a = t[k];
-                const std::uint32_t e = t[(k + 1) % 3];
-                const double length = glm::length(mesh.positions[a] - mesh.positions[e]);
-                if (length > 0.0) add_pair(a, e, relative_edge_weight * mean_edge / length);
-            }
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t j = model.dual.neighbors[f][k];
+            const std::uint32_t c = opposite_vertex(t, mesh.triangles[j]);
+            const std::uint32_t d = opposite_vertex(mesh.triangles[j], t);
+            if (c != mesh::no_index && d != mesh::no_index) add_pair(c, d, 1.0 / 3.0);
+            const std::uint32_t a = t[k];
+            const std::uint32_t e = t[(k + 1) % 3];
+            const double length = glm::length(mesh.positions[a] - mesh.positions[e]);
+            if (length > 0.0) add_pair(a, e, relative_edge_weight * mean_edge / length);
         }
         for (std::size_t i = 0; i < used; ++i) {
             if (s.unknown[i] == mesh::no_index) continue;

@@ -61,19 +61,23 @@ struct RigidityStencil {
 // tuned on them (docs/method.md).
 inline constexpr std::size_t balance_unknowns = 2500;
 
-// `weight` balanced for a ROI of `unknowns` unknowns (balance_unknowns).
-double balanced_rigidity_weight(double weight, std::size_t unknowns);
+// The rigidity rows' weight against the dual Laplacian rows for a ROI of up
+// to balance_unknowns unknowns. More keeps lengths better and converges more
+// slowly (docs/method.md).
+inline constexpr double rigidity_weight = 0.1;
+
+// rigidity_weight balanced for a ROI of `unknowns` unknowns.
+double balanced_rigidity_weight(std::size_t unknowns);
 
 class RotationFrames {
 public:
     // Makes the rigidity rows of each dual row of `rows` (those that touch
-    // an unknown), weighted by balanced_rigidity_weight(`weight`) against
+    // an unknown), weighted by balanced_rigidity_weight against
     // the dual Laplacian rows, gathers the rows in clusters
     // (rotation_clusters.hpp), and starts every rotation at the identity.
     // A's rows are the dual rows in their order, then each dual row's
     // rigidity rows in turn.
-    void build(const MeshModel& model, const UnknownMap& unknowns, double weight,
-               const SystemRows& rows);
+    void build(const MeshModel& model, const UnknownMap& unknowns, const SystemRows& rows);
 
     // N = AᵀA + w² H + ε I over A's rows, each entry summed in A's row
     // order (the bits of assemble_normal_matrix over the same rows), with

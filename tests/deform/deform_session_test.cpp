@@ -270,26 +270,6 @@ TEST_CASE("deform: a raised stop flag ends the set-up; a lowered one changes no 
     CHECK(stopped == nullptr);
 }
 
-TEST_CASE("deform: a system's row entries, once released, are freed and its faces kept") {
-    const deform::MeshModel model = deform::build_mesh_model(test::make_limb(12, 20, 0.2, 2.0));
-    deform::UnknownMap unknowns;
-    unknowns.unknown_of_vertex.assign(model.mesh.vertex_count(), mesh::no_index);
-    for (const std::uint32_t v : near_y(model.mesh, 0.5, 1.5)) {
-        unknowns.unknown_of_vertex[v] = static_cast<std::uint32_t>(unknowns.count());
-        unknowns.vertex_of_unknown.push_back(v);
-    }
-    deform::SystemRows rows = deform::collect_rows(model, unknowns);
-    REQUIRE(rows.size() > 0);
-    REQUIRE(rows.entries.capacity() > 0);
-    const std::vector<std::uint32_t> faces(rows.faces.begin(), rows.faces.end());
-    rows.release_entries();
-    CHECK(rows.entries.capacity() == 0);
-    CHECK(rows.entry_offsets.capacity() == 0);
-    CHECK(rows.centroid_faces.capacity() == 0);
-    CHECK(std::equal(faces.begin(), faces.end(), rows.faces.begin(), rows.faces.end()));
-    CHECK(rows.memory_bytes() == capacity_bytes(rows.faces));
-}
-
 TEST_CASE("deform: a session's memory: a larger ROI holds a larger factor") {
     const deform::MeshModel model = deform::build_mesh_model(test::make_limb(24, 40, 0.2, 2.0));
     const std::vector<std::vector<std::uint32_t>> groups = {near_y(model.mesh, 1.9, 2.0)};

@@ -162,10 +162,10 @@ TEST_CASE("cow: the normal matrix is AᵀA + w²H + εI, each entry summed in A'
     deform::SystemRows rows = deform::collect_rows(model, unknowns);
     const std::size_t dual_rows = rows.size();
     deform::RotationFrames frames;
-    frames.build(model, unknowns, 0.1, rows);
+    frames.build(model, unknowns, rows);
     // The pattern the factor's analysis starts from, before any value.
     const solver::CsrMatrix pattern = deform::normal_pattern(rows, unknowns.count());
-    append_rigidity_rows(model, unknowns, 0.1, rows);
+    append_rigidity_rows(model, unknowns, deform::balanced_rigidity_weight(unknowns.count()), rows);
     REQUIRE(rows.size() > dual_rows);
     CHECK(frames.rigidity_rows() == rows.size() - dual_rows);
     const std::vector<std::uint32_t> soft = {0, 1, 2, 2};
