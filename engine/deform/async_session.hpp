@@ -72,7 +72,7 @@ std::uint64_t frame_checksum(std::span<const glm::dvec3> positions);
 // holds the start frame until the first is published); no side waits for
 // another beyond swapping indices, no frame is ever torn, and after the
 // set-up no publish allocates.
-class AsyncSession : private jobs::Task {
+class AsyncSession final : private jobs::Task {
 public:
     // Builds the session in the task's first run; what it throws is
     // reported as the set-up's failure. `stop` turns true when the
