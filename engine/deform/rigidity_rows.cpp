@@ -38,23 +38,6 @@ std::uint32_t opposite_vertex(const mesh::Triangle& t, const mesh::Triangle& oth
 // (docs/method.md).
 constexpr double relative_edge_weight = 0.2;
 
-// Clusters of the coarse rotation field per ROI. Fewer carry a change of pose
-// across the ROI in fewer iterations and resist folds more; more follow
-// bends and twists more closely (docs/method.md).
-constexpr std::size_t clusters_per_roi = 16;
-
-// Patches of rows per ROI that share one blend of the clusters' rotations:
-// enough that the blend changes smoothly, few enough that the clusters'
-// work is small beside the rows'.
-constexpr std::size_t patches_per_roi = 512;
-
-// The share of every row's rotation that comes from the coarse field; the
-// rest is the row's own fit. Half and half kept the limbs' bends and twists
-// within a few percent of the rows' own rotations while the whole armadillo
-// converged in half the iterations and compressive pushes folded far less
-// (docs/method.md).
-constexpr double coarse_share = 0.5;
-
 }  // namespace
 
 double balanced_rigidity_weight(std::size_t unknowns) {
@@ -168,80 +151,7 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
     kept_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
     fitted_ = kept_;
 
-    // The coarse rotation field over the rows, neighbours across the dual
-    // edges between rows.
-    std::vector<std::uint32_t> row_of(mesh.face_count(), mesh::no_index);
-    for (std::size_t r = 0; r < dual_rows; ++r)
-        row_of[rows.faces[r]] = static_cast<std::uint32_t>(r);
-    std::vector<std::array<std::uint32_t, 3>> ring(dual_rows);
-    for (std::size_t r = 0; r < dual_rows; ++r) {
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t j = model.dual.neighbors[rows.faces[r]][k];
-            ring[r][k] = j == mesh::no_index ? mesh::no_index : row_of[j];
-        }
-    }
-    RotationClusters clusters;
-    clusters.build(ring, clusters_per_roi, patches_per_roi);
-
-    // A patch's rows are linear in their vertices as a row's are:
-    // Σ_{f ∈ patch} A_f p = Σ_v p_v H_pvᵀ with H_pv = Σ_{f ∈ patch} G_f,slot(v),
-    // so the patch's covariance is Σ_v p_v H_pvᵀ and its rows' share of Aᵀ t
-    // at v, turned by R, is R H_pv. Summed here once, each H_pv over the
-    // rows in order; each patch's vertices ascending.
-    const std::size_t patches = clusters.patch_count();
-    heaviest_.assign(dual_rows, mesh::no_index);
-    std::vector<std::uint32_t> patch_rows(patches + 1, 0);
-    for (std::size_t r = 0; r < dual_rows; ++r) ++patch_rows[clusters.patch_of(r) + 1];
-    for (std::size_t p = 0; p < patches; ++p) patch_rows[p + 1] += patch_rows[p];
-    std::vector<std::uint32_t> rows_by_patch(dual_rows);
-    {
-        std::vector<std::uint32_t> fill(patch_rows.begin(), patch_rows.end() - 1);
-        for (std::size_t r = 0; r < dual_rows; ++r)
-            rows_by_patch[fill[clusters.patch_of(r)]++] = static_cast<std::uint32_t>(r);
-    }
-    patch_offsets_.assign(1, 0);
-    patch_pulls_.clear();
-    member_offsets_.assign(1, 0);
-    members_.clear();
-    std::vector<std::uint32_t> pull_of(mesh.vertex_count(), mesh::no_index);
-    for (std::size_t p = 0; p < patches; ++p) {
-        std::uint32_t heaviest = mesh::no_index;
-        double weight = 0.0;
-        for (const RotationClusters::Membership& m : clusters.of(p)) {
-            members_.push_back({m.cluster, coarse_share * m.weight});
-            if (m.weight > weight) {
-                weight = m.weight;
-                heaviest = m.cluster;
-            }
-        }
-        member_offsets_.push_back(static_cast<std::uint32_t>(members_.size()));
-        const std::size_t first = patch_pulls_.size();
-        for (std::uint32_t k = patch_rows[p]; k < patch_rows[p + 1]; ++k) {
-            const std::uint32_t r = rows_by_patch[k];
-            heaviest_[r] = heaviest;
-            const RigidityStencil& st = stencils_[r];
-            for (std::size_t i = 0; i < slots; ++i) {
-                glm::dvec3 g;
-                for (int x = 0; x < 3; ++x) g[x] = st.pulled[x][i] + st.dual[i] * st.rest_dual[x];
-                if (g == glm::dvec3(0.0)) continue;  // an unused slot
-                const std::uint32_t v = st.vertex[i];
-                if (pull_of[v] == mesh::no_index) {
-                    pull_of[v] = static_cast<std::uint32_t>(patch_pulls_.size());
-                    patch_pulls_.push_back({v, unknowns.unknown_of_vertex[v], glm::dvec3(0.0)});
-                }
-                patch_pulls_[pull_of[v]].pulled += g;
-            }
-        }
-        std::sort(patch_pulls_.begin() + static_cast<std::ptrdiff_t>(first), patch_pulls_.end(),
-                  [](const PatchPull& x, const PatchPull& y) { return x.vertex < y.vertex; });
-        for (std::size_t k = first; k < patch_pulls_.size(); ++k)
-            pull_of[patch_pulls_[k].vertex] = mesh::no_index;
-        patch_offsets_.push_back(static_cast<std::uint32_t>(patch_pulls_.size()));
-    }
-    cluster_kept_.assign(clusters.size(), glm::dquat(1.0, 0.0, 0.0, 0.0));
-    cluster_fitted_ = cluster_kept_;
-    cluster_rotations_.assign(clusters.size(), glm::dmat3(1.0));
-    cluster_sums_.assign(clusters.size(), glm::dmat3(0.0));
+    build_coarse_field(model, unknowns, rows);
 }
 
 std::size_t RotationFrames::rigidity_rows() const {
@@ -488,29 +398,9 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int st
         out[2] += c.coefficient * p.z;
     }
 
-    // The clusters' rotations first, each fitted to its patches'
-    // covariances, weighted (a patch's taken from its first vertex's
-    // position: Σ_v H_pv = 0, and the sum cancels less).
-    const std::size_t clusters = cluster_kept_.size();
-    std::vector<glm::dmat3>& sums = cluster_sums_;
-    std::fill(sums.begin(), sums.end(), glm::dmat3(0.0));
-    for (std::size_t p = 0; p + 1 < patch_offsets_.size(); ++p) {
-        const std::span<const PatchPull> pulls = patch_pulls(p);
-        glm::dmat3 covariance(0.0);
-        const glm::dvec3 origin = pulls.empty() ? glm::dvec3(0.0) : positions[pulls[0].vertex];
-        for (const PatchPull& t : pulls)
-            covariance += glm::outerProduct(positions[t.vertex] - origin, t.pulled);
-        for (const Member& m : patch_members(p)) sums[m.cluster] += m.share * covariance;
-    }
-    double cluster_alignment = 0.0;
-    for (std::size_t c = 0; c < clusters; ++c) {
-        glm::dquat q = cluster_kept_[c];
-        const RotationFit fit = fit_rotation(sums[c], q, steps);
-        cluster_fitted_[c] = q;
-        cluster_rotations_[c] = fit.rotation;
-        cluster_alignment += fit.alignment;
-    }
-
+    // The clusters first: a solve's first fit starts a row from its
+    // cluster's rotation where that aligns it better.
+    const double cluster_alignment = fit_clusters(positions, steps);
     const std::size_t count = stencils_.size();
     const FitPass whole{stencils_,       kept_,     fitted_, heaviest_,
                         cluster_fitted_, positions, steps,   rhs};
@@ -556,21 +446,7 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int st
         }
     }
 
-    // The clusters' shares of Aᵀ t: θ Σ_c κ_pc R_c H_pv at each unknown.
-    for (std::size_t p = 0; p + 1 < patch_offsets_.size(); ++p) {
-        const std::span<const Member> members = patch_members(p);
-        if (members.empty()) continue;
-        glm::dmat3 rotation(0.0);
-        for (const Member& m : members) rotation += m.share * cluster_rotations_[m.cluster];
-        for (const PatchPull& t : patch_pulls(p)) {
-            if (t.unknown == mesh::no_index) continue;
-            const glm::dvec3 share = rotation * t.pulled;
-            double* out = &rhs[3 * t.unknown];
-            out[0] += share.x;
-            out[1] += share.y;
-            out[2] += share.z;
-        }
-    }
+    add_cluster_shares(rhs);
     return energy - 2.0 * cluster_alignment;
 }
 

@@ -69,6 +69,13 @@ inline constexpr double rigidity_weight = 0.1;
 // rigidity_weight balanced for a ROI of `unknowns` unknowns.
 double balanced_rigidity_weight(std::size_t unknowns);
 
+// The share θ of every row's target rotation that comes from the coarse
+// field (rotation_clusters.hpp); the rest is the row's own fit. Half and
+// half kept the limbs' bends and twists within a few percent of the rows'
+// own rotations while the whole armadillo converged in half the iterations
+// and compressive pushes folded far less (docs/method.md).
+inline constexpr double coarse_share = 0.5;
+
 class RotationFrames {
 public:
     // Makes the rigidity rows of each dual row of `rows` (those that touch
@@ -120,6 +127,14 @@ public:
     }
 
 private:
+    // coarse_rotations.cpp: the clusters and patches of the rows, their
+    // rotations fitted to `positions` (returns Σ_c tr(R_cᵀ θ A_c)), and
+    // their shares of the right-hand side.
+    void build_coarse_field(const MeshModel& model, const UnknownMap& unknowns,
+                            const SystemRows& rows);
+    double fit_clusters(std::span<const glm::dvec3> positions, int steps);
+    void add_cluster_shares(std::span<double> rhs) const;
+
     // −(Aᵀ A)_uv between an unknown u and a fixed vertex v: the fixed
     // vertices' share of the right-hand side, −Σ (Aᵀ A)_uv p_v.
     struct FixedCoupling {
