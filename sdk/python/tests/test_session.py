@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -102,27 +103,37 @@ def test_bake_undo_redo(leg):
     assert np.array_equal(cow.positions(), solved)
 
 
-def test_waiting_releases_the_gil(cow):
-    # While one thread waits for a long set-up, this one keeps running
-    # Python and sees the set-up still preparing: it could not while the
-    # waiter held the GIL (the set-up ends before such a wait returns).
-    with cow.subdivide(2) as fine, fine.roi_ball(771, 0.3) as roi, \
-            dfm.Session(fine, roi, [[771]]) as s:
-        entered = threading.Event()
+def test_waiting_releases_the_gil():
+    # The context's work goes to a job system that runs nothing until this
+    # thread runs it, so a thread waiting for the set-up waits in the
+    # library until then. This thread must go on running Python meanwhile:
+    # it sees the session preparing, then hands the jobs over. Were the GIL
+    # held by the wait, this thread would stop at its next bytecode and the
+    # wait would never end.
+    held = []
+    with dfm.Context(work_mode=dfm.WorkMode.JOB_SYSTEM, job_system=held.append) as ctx, \
+            dfm.Mesh.load(ctx, "model:cow") as cow, cow.roi_ball(771, 0.3) as roi, \
+            dfm.Session(cow, roi, [[771]]) as s:
+        done = threading.Event()
 
         def waiter():
-            entered.set()
             s.wait()
+            done.set()
 
         t = threading.Thread(target=waiter)
         t.start()
-        entered.wait()
-        preparing_seen = 0
-        while t.is_alive():
+        try:
+            time.sleep(0.2)  # the waiter is in the library by now, holding nothing
             info, _ = s.poll()
-            preparing_seen += info.preparing
-        t.join()
-        assert preparing_seen > 0
+            assert info.preparing and not done.is_set()
+        finally:
+            # The jobs handed over are run whatever happened: the context
+            # waits for them when it closes.
+            while not done.is_set():
+                while held:
+                    dfm.run_job(held.pop(0))
+                time.sleep(0.001)
+            t.join()
         assert not s.poll()[0].preparing
 
 
