@@ -1,6 +1,7 @@
 #include <algorithm>
 
 #include "deform/rigidity_rows.hpp"
+#include "deform/rotation_clusters.hpp"
 #include "deform/rotation_fit.hpp"
 
 // RotationFrames' coarse rotation field (rotation_clusters.hpp,

@@ -11,7 +11,6 @@
 #include "core/pooled_allocator.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
-#include "deform/rotation_clusters.hpp"
 #include "jobs/worker_pool.hpp"
 
 // The default method's local step (docs/method.md). Each dual row f gets a
