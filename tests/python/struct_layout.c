@@ -10,8 +10,7 @@
 
 #include "dualform/dualform.h"
 
-#define STRUCT(py, c) \
-    printf("struct %s %s %zu %zu\n", #py, #c, sizeof(c), (size_t)alignof(c));
+#define STRUCT(py, c) printf("struct %s %s %zu %zu\n", #py, #c, sizeof(c), (size_t)alignof(c));
 #define FIELD(py, c, f) \
     printf("field %s %s %zu %zu\n", #py, #f, offsetof(c, f), sizeof(((c*)0)->f));
 

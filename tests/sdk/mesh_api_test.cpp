@@ -208,15 +208,15 @@ TEST_CASE(
     b.members = R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}])";
     const auto dir = scratch_dir("sdk_gltf_references");
     std::filesystem::create_directories(dir / "asset");
-    write_text(dir / "shared.bin", b.bin());
-    write_text(dir / "asset" / "x.gltf", b.json("../shared.bin"));
+    write_text(dir / "outside.bin", b.bin());
+    write_text(dir / "asset" / "x.gltf", b.json("../outside.bin"));
     const std::string path = (dir / "asset" / "x.gltf").string();
 
     Context c;
     dfm_mesh* mesh = nullptr;
     CHECK(dfm_mesh_load(c.context, path.c_str(), &mesh) == DFM_ERROR_UNSUPPORTED);
     CHECK(mesh == nullptr);
-    CHECK(message_has("external file URI '../shared.bin' refused"));
+    CHECK(message_has("external file URI '../outside.bin' refused"));
 
     const std::string folder = dir.string();
     dfm_context_desc desc = {};

@@ -161,8 +161,8 @@ int main(int argc, char** argv) {
                 .field("unknowns", n)
                 .field("nonzeros", system.matrix.nonzeros())
                 .key("factor");
-            write_factor(json, measure_factor(system, solver::OrderingMethod::minimum_degree, pool,
-                                              repeat));
+            write_factor(
+                json, measure_factor(system, solver::OrderingMethod::minimum_degree, pool, repeat));
 #ifdef DFM_SOLVER_BENCH_CHOLMOD
             const CholmodMeasure cholmod = measure_cholmod(system, repeat);
             if (cholmod.ok) {
