@@ -110,13 +110,69 @@ template <class Rows>
 
 #if DFM_X86_DISPATCH
 
-// Sixteen registers of four doubles: eight accumulators of an 8×4 tile.
-template <bool subtract>
-DFM_TARGET_AVX2 void product_nt_avx2(std::size_t m, std::size_t n, std::size_t k, const double* a,
-                                     std::size_t lda, const double* b, std::size_t ldb, double* c,
-                                     std::size_t ldc, bool lower, std::size_t row_offset) {
-    product_nt<TileRows<subtract, 8>>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+// A tile of V vectors of four rows by C columns, the last vector's rows
+// masked; each entry's sum as in `tile`. Written with intrinsics: GCC 12's
+// own vectorization of a 2-row `tile` for AVX2 loads the next row's pair
+// beside the one it uses, which past a panel's last row reads outside it.
+template <bool subtract, std::size_t V, std::size_t C>
+[[gnu::always_inline]] DFM_TARGET_AVX2 inline void tile_avx2(std::size_t k, const double* a,
+                                                             std::size_t lda, const double* b,
+                                                             std::size_t ldb, double* c,
+                                                             std::size_t ldc, __m256i last) {
+    __m256d acc[C][V];
+    for (std::size_t jj = 0; jj < C; ++jj)
+        for (std::size_t v = 0; v < V; ++v) acc[jj][v] = _mm256_setzero_pd();
+    for (std::size_t t = 0; t < k; ++t) {
+        const double* at = a + t * lda;
+        const double* bt = b + t * ldb;
+        __m256d av[V];
+        for (std::size_t v = 0; v + 1 < V; ++v) av[v] = _mm256_loadu_pd(at + 4 * v);
+        av[V - 1] = _mm256_maskload_pd(at + 4 * (V - 1), last);
+        for (std::size_t jj = 0; jj < C; ++jj) {
+            const __m256d bj = _mm256_set1_pd(bt[jj]);
+            for (std::size_t v = 0; v < V; ++v)
+                acc[jj][v] = _mm256_add_pd(acc[jj][v], _mm256_mul_pd(av[v], bj));
+        }
+    }
+    const __m256i all = _mm256_set1_epi64x(-1);
+    for (std::size_t jj = 0; jj < C; ++jj) {
+        double* cj = c + jj * ldc;
+        for (std::size_t v = 0; v < V; ++v) {
+            const __m256i rows = v + 1 < V ? all : last;
+            __m256d out = acc[jj][v];
+            if constexpr (subtract) out = _mm256_sub_pd(_mm256_maskload_pd(cj + 4 * v, rows), out);
+            _mm256_maskstore_pd(cj + 4 * v, rows, out);
+        }
+    }
 }
+
+// Sixteen registers of four doubles: 8-row tiles of eight accumulators,
+// then one tile of the rest. A sweep is a call, not inlined: product_nt,
+// which calls it, is compiled for the plain target.
+template <bool subtract>
+struct Avx2Rows {
+    static constexpr std::size_t rows = 8;
+    static constexpr std::size_t columns = 4;
+    template <std::size_t C>
+    DFM_TARGET_AVX2 static void sweep(std::size_t i0, std::size_t ie, std::size_t k,
+                                      const double* a, std::size_t lda, const double* b,
+                                      std::size_t ldb, double* c, std::size_t ldc) {
+        const __m256i all = _mm256_set1_epi64x(-1);
+        for (; i0 + 8 <= ie; i0 += 8)
+            tile_avx2<subtract, 2, C>(k, a + i0, lda, b, ldb, c + i0, ldc, all);
+        const std::size_t rest = ie - i0;
+        if (rest == 0) return;
+        // Lane l of the last vector is used when l < (rest − 1) % 4 + 1.
+        const auto used = static_cast<long long>((rest - 1) % 4 + 1);
+        const __m256i mask =
+            _mm256_cmpgt_epi64(_mm256_set1_epi64x(used), _mm256_setr_epi64x(0, 1, 2, 3));
+        if (rest > 4) {
+            tile_avx2<subtract, 2, C>(k, a + i0, lda, b, ldb, c + i0, ldc, mask);
+        } else {
+            tile_avx2<subtract, 1, C>(k, a + i0, lda, b, ldb, c + i0, ldc, mask);
+        }
+    }
+};
 
 // A tile of V vectors of eight rows by C columns, the last vector's rows
 // masked (so a block's last rows take one tile, whatever their count); each
@@ -372,9 +428,9 @@ void multiply_nt(simd::Set set, std::size_t m, std::size_t n, std::size_t k, con
     }
     if (set == simd::Set::avx2) {
         if (subtract) {
-            product_nt_avx2<true>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+            product_nt<Avx2Rows<true>>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
         } else {
-            product_nt_avx2<false>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
+            product_nt<Avx2Rows<false>>(m, n, k, a, lda, b, ldb, c, ldc, lower, row_offset);
         }
         return;
     }

@@ -7,6 +7,9 @@
 #include <random>
 #include <vector>
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include "solver/dense_kernels.hpp"
 
 using namespace dfm::solver;
@@ -81,6 +84,61 @@ TEST_CASE("solver: the dense product gives the same bits on every instruction se
         }
     }
     MESSAGE("compared ", compared, " products with the plain kernel's");
+}
+
+// `values` copied to the end of pages followed by one that cannot be
+// read: a kernel that reads past an operand's last entry faults.
+class GuardedCopy {
+public:
+    explicit GuardedCopy(const std::vector<double>& values) {
+        const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+        const std::size_t bytes = values.size() * sizeof(double);
+        size_ = (bytes + page - 1) / page * page + page;
+        void* mapped =
+            ::mmap(nullptr, size_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        REQUIRE(mapped != MAP_FAILED);
+        base_ = static_cast<char*>(mapped);
+        REQUIRE(::mprotect(base_ + size_ - page, page, PROT_NONE) == 0);
+        data_ = reinterpret_cast<double*>(base_ + size_ - page - bytes);
+        std::memcpy(data_, values.data(), bytes);
+    }
+    ~GuardedCopy() { ::munmap(base_, size_); }
+    GuardedCopy(const GuardedCopy&) = delete;
+    GuardedCopy& operator=(const GuardedCopy&) = delete;
+    double* data() { return data_; }
+
+private:
+    char* base_ = nullptr;
+    std::size_t size_ = 0;
+    double* data_ = nullptr;
+};
+
+TEST_CASE("solver: the dense product reads nothing past its operands' last rows") {
+    // The factor's updates multiply a panel by its own first rows, and the
+    // panel may end where the memory does. A and B hold exactly their k
+    // rows here (leading dimension m and n), the last one against a page
+    // that cannot be read.
+    std::mt19937 rng(5);
+    for (dfm::simd::Set set :
+         {dfm::simd::Set::plain, dfm::simd::Set::avx2, dfm::simd::Set::avx512}) {
+        if (!dfm::simd::available(set)) continue;
+        for (std::size_t m = 1; m <= 19; ++m)
+            for (std::size_t n : {std::size_t{1}, std::size_t{3}, std::size_t{5}, std::size_t{9}})
+                for (const bool subtract : {false, true}) {
+                    Product p = random_product(rng, m, n, 7);
+                    p.lda = m;
+                    p.ldb = n;
+                    p.a.resize(m * p.k);
+                    p.b.resize(n * p.k);
+                    GuardedCopy a(p.a);
+                    GuardedCopy b(p.b);
+                    GuardedCopy c(p.c);
+                    dense::multiply_nt(set, m, n, p.k, a.data(), m, b.data(), n, c.data(), p.ldc,
+                                       subtract, false, 0);
+                    const std::vector<double> expected = run(set, p, subtract, false, 0);
+                    CHECK(std::memcmp(c.data(), expected.data(), p.c.size() * sizeof(double)) == 0);
+                }
+    }
 }
 
 TEST_CASE("solver: the dense product's entries are the sums in ascending order") {
