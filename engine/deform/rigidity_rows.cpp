@@ -166,6 +166,9 @@ namespace {
 // coordinate, then the row's energy.
 constexpr std::size_t deferred_stride = 3 * slots + 1;
 
+// How many rows ahead a two-thread fit's merge fetches what it adds to.
+constexpr std::size_t merge_ahead = 8;
+
 struct FitPass {
     std::span<const RigidityStencil> stencils;
     std::span<const glm::dquat> kept;
@@ -432,18 +435,35 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int st
                 fit_rows(part(half, count, deferred_.data()));
             }
         });
-        for (std::size_t r = half; r < count; ++r) {
-            const RigidityStencil& s = stencils_[r];
-            const double* share = &deferred_[(r - half) * deferred_stride];
-            for (std::size_t i = 0; i < slots; ++i) {
-                if (s.unknown[i] == mesh::no_index) continue;
-                double* out = &rhs[3 * s.unknown[i]];
-                out[0] += share[3 * i];
-                out[1] += share[3 * i + 1];
-                out[2] += share[3 * i + 2];
+        // The second half's shares, added by both threads, each at its
+        // half of the unknowns (and the energies by the first): every sum
+        // still takes the rows in order. A row's stencil and the unknowns it
+        // adds to are fetched merge_ahead rows ahead; the adds wait on them
+        // otherwise.
+        const std::uint32_t unknowns = static_cast<std::uint32_t>(rhs.size() / 3);
+        pool->run(2, [&](std::size_t task) {
+            const std::uint32_t lo = task == 0 ? 0 : unknowns / 2;
+            const std::uint32_t hi = task == 0 ? unknowns / 2 : unknowns;
+            for (std::size_t r = half; r < count; ++r) {
+                if (r + 2 * merge_ahead < count)
+                    __builtin_prefetch(&stencils_[r + 2 * merge_ahead]);
+                if (r + merge_ahead < count) {
+                    for (const std::uint32_t u : stencils_[r + merge_ahead].unknown)
+                        if (u >= lo && u < hi) __builtin_prefetch(&rhs[3 * u], 1);
+                }
+                const RigidityStencil& s = stencils_[r];
+                const double* share = &deferred_[(r - half) * deferred_stride];
+                for (std::size_t i = 0; i < slots; ++i) {
+                    const std::uint32_t u = s.unknown[i];
+                    if (u < lo || u >= hi) continue;
+                    double* out = &rhs[3 * u];
+                    out[0] += share[3 * i];
+                    out[1] += share[3 * i + 1];
+                    out[2] += share[3 * i + 2];
+                }
+                if (task == 0) energy += share[3 * slots];
             }
-            energy += share[3 * slots];
-        }
+        });
     }
 
     add_cluster_shares(rhs);
