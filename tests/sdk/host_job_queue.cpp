@@ -24,18 +24,20 @@ void HostJobQueue::enqueue(void* user, dfm_job* job) {
     self->ready_.notify_one();
 }
 
+void HostJobQueue::run_front(std::unique_lock<std::mutex>& lock) {
+    dfm_job* job = jobs_.front();
+    jobs_.pop_front();
+    ++running_;
+    lock.unlock();
+    dfm_job_run(job);
+    lock.lock();
+    --running_;
+    ++run_;
+}
+
 void HostJobQueue::run_held() {
     std::unique_lock<std::mutex> lock(mutex_);
-    while (!jobs_.empty()) {
-        dfm_job* job = jobs_.front();
-        jobs_.pop_front();
-        ++running_;
-        lock.unlock();
-        dfm_job_run(job);
-        lock.lock();
-        --running_;
-        ++run_;
-    }
+    while (!jobs_.empty()) run_front(lock);
 }
 
 std::size_t HostJobQueue::waiting() {
@@ -58,14 +60,7 @@ void HostJobQueue::drain() {
     for (;;) {
         ready_.wait(lock, [&] { return stopping_ || !jobs_.empty(); });
         if (jobs_.empty()) return;
-        dfm_job* job = jobs_.front();
-        jobs_.pop_front();
-        ++running_;
-        lock.unlock();
-        dfm_job_run(job);
-        lock.lock();
-        --running_;
-        ++run_;
+        run_front(lock);
     }
 }
 

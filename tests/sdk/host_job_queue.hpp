@@ -32,6 +32,8 @@ public:
 
 private:
     static void enqueue(void* user, dfm_job* job);
+    // Runs the first job with the lock released; `lock` holds mutex_.
+    void run_front(std::unique_lock<std::mutex>& lock);
     void drain();
 
     std::mutex mutex_;

@@ -24,16 +24,23 @@ dfm_mesh* make_c_mesh(dfm_context* context, const mesh::Mesh& m) {
     return out;
 }
 
-LimbEdit::LimbEdit(int segments, int rings, dfm_solver_settings solver)
-    : shape(make_limb(segments, rings, 0.2, 2.0)) {
-    REQUIRE(dfm_context_create(nullptr, &context) == DFM_OK);
-    mesh = make_c_mesh(context, shape);
+dfm_roi* make_limb_roi(const mesh::Mesh& shape, dfm_mesh* mesh, std::vector<std::uint32_t>& tip) {
     std::vector<std::uint32_t> region;
     for (std::uint32_t v = 0; v < shape.vertex_count(); ++v) {
         if (shape.positions[v].y > 0.5) region.push_back(v);
         if (shape.positions[v].y >= 1.8) tip.push_back(v);
     }
-    REQUIRE(dfm_roi_from_vertices(mesh, region.data(), region.size(), &roi) == DFM_OK);
+    dfm_roi* roi = nullptr;
+    REQUIRE_MESSAGE(dfm_roi_from_vertices(mesh, region.data(), region.size(), &roi) == DFM_OK,
+                    last_error());
+    return roi;
+}
+
+LimbEdit::LimbEdit(int segments, int rings, dfm_solver_settings solver)
+    : shape(make_limb(segments, rings, 0.2, 2.0)) {
+    REQUIRE(dfm_context_create(nullptr, &context) == DFM_OK);
+    mesh = make_c_mesh(context, shape);
+    roi = make_limb_roi(shape, mesh, tip);
     const dfm_handle_group group = {tip.data(), tip.size()};
     dfm_session_desc desc = {};
     desc.roi = roi;

@@ -13,6 +13,10 @@ namespace dfm::test {
 // positions (as most hosts hand them).
 dfm_mesh* make_c_mesh(dfm_context* context, const mesh::Mesh& m);
 
+// The limb edit's ROI (above y = 0.5) as a dfm_roi of `mesh`, and its tip
+// (y >= 1.8), the handle group.
+dfm_roi* make_limb_roi(const mesh::Mesh& shape, dfm_mesh* mesh, std::vector<std::uint32_t>& tip);
+
 // The limb edit the session tests share: a capped cylinder along +y, the ROI
 // above y = 0.5, one handle group at the tip (y >= 1.8).
 struct LimbEdit {

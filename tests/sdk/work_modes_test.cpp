@@ -32,12 +32,7 @@ struct Crowd {
     Crowd(const dfm_context_desc& desc, std::size_t count) {
         REQUIRE_MESSAGE(dfm_context_create(&desc, &context) == DFM_OK, last_error());
         mesh = make_c_mesh(context, shape);
-        std::vector<std::uint32_t> region;
-        for (std::uint32_t v = 0; v < shape.vertex_count(); ++v) {
-            if (shape.positions[v].y > 0.5) region.push_back(v);
-            if (shape.positions[v].y >= 1.8) tip.push_back(v);
-        }
-        REQUIRE(dfm_roi_from_vertices(mesh, region.data(), region.size(), &roi) == DFM_OK);
+        roi = make_limb_roi(shape, mesh, tip);
         const dfm_handle_group group = {tip.data(), tip.size()};
         dfm_session_desc sd = {};
         sd.roi = roi;
