@@ -5,21 +5,14 @@
 #include <string>
 
 #include "json/json_reader.hpp"
+#include "sample_report.hpp"
 #include "support/run_process.hpp"
 #include "support/test_files.hpp"
 
 using namespace dfm;
+using dfm::test::number_at;
 
 namespace {
-
-double number_at(const json::JsonValue& object, const char* key, const char* field = nullptr) {
-    const json::JsonMember* member = object.find(key);
-    REQUIRE_MESSAGE(member != nullptr, key);
-    if (field == nullptr) return member->value.number;
-    const json::JsonMember* inner = member->value.find(field);
-    REQUIRE_MESSAGE(inner != nullptr, key << "." << field);
-    return inner->value.number;
-}
 
 // Runs the crowd sample and returns its last line, parsed.
 json::JsonValue run_crowd(const std::vector<std::string>& arguments) {

@@ -3,22 +3,11 @@
 #include <string>
 
 #include "json/json_reader.hpp"
+#include "sample_report.hpp"
 #include "support/run_process.hpp"
 
 using namespace dfm;
-
-namespace {
-
-double number_at(const json::JsonValue& object, const char* key, const char* field = nullptr) {
-    const json::JsonMember* member = object.find(key);
-    REQUIRE_MESSAGE(member != nullptr, key);
-    if (field == nullptr) return member->value.number;
-    const json::JsonMember* inner = member->value.find(field);
-    REQUIRE_MESSAGE(inner != nullptr, key << "." << field);
-    return inner->value.number;
-}
-
-}  // namespace
+using dfm::test::number_at;
 
 // 600 frames of the cow's tail shaking and leg stepping, headless on
 // lavapipe with the validation layer on (the sample fails on any message).
