@@ -243,7 +243,7 @@ TEST_CASE("deform: baking makes the edit the new rest pose") {
           Errc::invalid_argument);
 }
 
-TEST_CASE("deform: a raised stop flag ends the set-up; a lowered one changes no bit") {
+TEST_CASE("deform: a raised stop flag ends the set-up, a lowered one changes no bit") {
     const deform::MeshModel model = deform::build_mesh_model(test::make_limb(24, 30, 0.2, 2.0));
     const std::vector<std::vector<std::uint32_t>> groups = {near_y(model.mesh, 1.9, 2.0)};
     const std::vector<std::uint32_t> roi = near_y(model.mesh, 0.3, 2.0);

@@ -54,7 +54,7 @@ TEST_CASE("dual: A V reproduces -h n, rows sum to zero, at most six vertices") {
     }
 }
 
-TEST_CASE("dual: weights and |h| are invariant under rigid motion; h scales with the mesh") {
+TEST_CASE("dual: weights and |h| are invariant under rigid motion, h scales with the mesh") {
     const mesh::Mesh m = bumpy_sphere();
     const dual::DualLaplacian d = dual::build_dual_laplacian(m, mesh::build_edge_topology(m));
     mesh::Mesh moved = m;

@@ -159,7 +159,7 @@ TEST_CASE("jobs: run_tasks without a pool runs inline, in order") {
     CHECK(order == std::vector<std::size_t>{0, 1, 2, 3, 4});
 }
 
-TEST_CASE("jobs: tasks take turns in the order they were posted; a repost goes to the back") {
+TEST_CASE("jobs: tasks take turns in the order they were posted, a repost goes to the back") {
     Scheduler stepped(SchedulerConfig::stepped());
     std::string journal;
     std::mutex mutex;

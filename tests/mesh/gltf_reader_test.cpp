@@ -113,7 +113,7 @@ TEST_CASE("glTF reader: sparse accessors, with and without a base buffer view") 
     CHECK(host.positions[1] == glm::dvec3(0.0));
 }
 
-TEST_CASE("glTF reader: normalized integer normals are scaled; integer positions are refused") {
+TEST_CASE("glTF reader: normalized integer normals are scaled, integer positions are refused") {
     const Mesh grid = test::make_grid(1, 1);
     GltfBuilder b;
     b.positions(test::float_positions(grid));
@@ -159,7 +159,7 @@ TEST_CASE("glTF reader: Draco is refused naming the primitive") {
     CHECK(s.message().find("mesh 0 primitive 0: Draco compression") != std::string::npos);
 }
 
-TEST_CASE("glTF reader: node transforms compose down the hierarchy; instances load once") {
+TEST_CASE("glTF reader: node transforms compose down the hierarchy, instances load once") {
     const Mesh grid = test::make_grid(1, 1);
     GltfBuilder b = grid_gltf(grid, 1);
     // Node 0: translate (1, 2, 3) and scale 2; its child node 1 turns 90
@@ -302,7 +302,7 @@ TEST_CASE("glTF reader: external buffers resolve only inside the asset's folder"
     CHECK_FALSE(read(b.json("sub/inside.bin"), from_bytes, asset).is_ok());
 }
 
-TEST_CASE("glTF reader: strips and fans become triangles; points are skipped with a warning") {
+TEST_CASE("glTF reader: strips and fans become triangles, points are skipped with a warning") {
     GltfBuilder b;
     b.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
     b.members =

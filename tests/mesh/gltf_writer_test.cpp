@@ -277,7 +277,7 @@ TEST_CASE("glTF writer: the edit as a morph target reproduces it at weight 1") {
     CHECK(c.doc["meshes"][0]["weights"] == json::array({0.5, 0.0, 0.0}));
 }
 
-TEST_CASE("glTF writer: sparse positions are written densely; other meshes get a fresh asset") {
+TEST_CASE("glTF writer: sparse positions are written densely, other meshes get a fresh asset") {
     const auto dir = test::scratch_dir("gltf_sparse_fresh");
     const Mesh grid = test::make_grid(2, 2);
     test::GltfBuilder b;

@@ -111,7 +111,7 @@ TEST_CASE("seam weld: two tetrahedra touching at one position stay two vertices 
     CHECK(s.closed);
 }
 
-TEST_CASE("seam weld: none keeps every copy; tolerance joins copies a little apart") {
+TEST_CASE("seam weld: none keeps every copy, tolerance joins copies a little apart") {
     Mesh split = seamed_cube();
     Mesh surface;
     mesh::SeamWeld weld;

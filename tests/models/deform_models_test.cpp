@@ -212,7 +212,7 @@ TEST_CASE("cow: the normal matrix is AᵀA + w²H + εI, each entry summed in A'
     }
 }
 
-TEST_CASE("cow: zero handle motion returns the rest mesh; outside the ROI is bit-identical") {
+TEST_CASE("cow: zero handle motion returns the rest mesh, outside the ROI is bit-identical") {
     const deform::MeshModel model = test::load_real_model("cow");
     const std::vector<std::uint32_t> roi = test::ball_around(model, 771, 0.2);
     const std::vector<std::vector<std::uint32_t>> groups = {test::ball_around(model, 771, 0.03)};

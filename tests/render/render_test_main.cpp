@@ -7,6 +7,8 @@
 
 #include <cstdlib>
 
+#include "support/test_run.hpp"
+
 int main(int argc, char** argv) {
 #ifdef DUALFORM_LAVAPIPE_ICD
     if (std::getenv("VK_DRIVER_FILES") == nullptr && std::getenv("VK_ICD_FILENAMES") == nullptr) {
@@ -14,5 +16,5 @@ int main(int argc, char** argv) {
         setenv("VK_ICD_FILENAMES", DUALFORM_LAVAPIPE_ICD, 0);
     }
 #endif
-    return doctest::Context(argc, argv).run();
+    return run_test_cases(argc, argv);
 }

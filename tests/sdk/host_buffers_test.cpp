@@ -133,7 +133,7 @@ TEST_CASE("host buffers: 16-bit indices for small meshes, refused past 65,536 ve
     dfm_mesh_destroy(large);
 }
 
-TEST_CASE("host buffers: the host updates the rest pose; earlier sessions are told BUSY") {
+TEST_CASE("host buffers: the host updates the rest pose, earlier sessions are told BUSY") {
     LimbEdit limb;
     const std::size_t n = limb.shape.vertex_count();
     std::vector<double> rest(3 * n), moved(3 * n), now(3 * n);

@@ -43,7 +43,7 @@ dfm_session* session_above(const LimbEdit& limb, double low) {
 
 }  // namespace
 
-TEST_CASE("memory: a session reports its parts; a larger ROI holds a larger factor") {
+TEST_CASE("memory: a session reports its parts, a larger ROI holds a larger factor") {
     LimbEdit limb(32, 60);
     dfm_session* small = session_above(limb, 1.4);
     dfm_session* large = session_above(limb, 0.2);

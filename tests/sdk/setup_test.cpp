@@ -67,7 +67,7 @@ struct Limb {
 
 }  // namespace
 
-TEST_CASE("setup: create returns with the rest pose; the set-up ends on the worker") {
+TEST_CASE("setup: create returns with the rest pose, the set-up ends on the worker") {
     Limb limb(32, 60);
     const std::size_t n = limb.shape.vertex_count();
     const dfm_handle_group group = {limb.tip.data(), limb.tip.size()};

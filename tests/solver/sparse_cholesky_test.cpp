@@ -260,7 +260,7 @@ TEST_CASE("solver: Cholesky factor and solve are bit-identical with 1, 2 and 3 t
     for (const std::vector<double>& x : solutions) CHECK(x == solutions[0]);
 }
 
-TEST_CASE("solver: a raised stop flag ends analyze and factorize; a lowered one changes nothing") {
+TEST_CASE("solver: a raised stop flag ends analyze and factorize, a lowered one changes nothing") {
     const CsrMatrix a = dfm::test::normal_product(dfm::test::grid_laplacian(70, 60), 1e-6);
     const std::vector<double> b = dfm::test::random_vector(a.rows * 3, 22);
     for (const std::size_t threads : {1u, 3u}) {

@@ -202,7 +202,7 @@ TEST_CASE("dualform deform: writes the mesh, the ROI and a report with every fie
     CHECK(std::adjacent_find(indices.begin(), indices.end()) == indices.end());
 }
 
-TEST_CASE("dualform deform: a Water-Filling ROI deforms; bad input exits 2") {
+TEST_CASE("dualform deform: a Water-Filling ROI deforms, bad input exits 2") {
     const auto dir = dfm::test::scratch_dir("cli_deform_errors");
     const std::string out = (dir / "x.off").string();
     auto r = dualform({"deform", (scenarios_dir() / "cow-front-leg-step.json").string(), "--out",
