@@ -18,6 +18,12 @@ namespace dfm::deform {
 // iteration much closer to its fixed point than the last frame does. Only
 // the start changes: the iteration still runs to its tolerance, so the
 // fixed point it reaches is the same.
+// Linear, not of higher order: near its fixed point the iteration contracts
+// slowly (a frame's steps shrink by about 0.93 each on the whole armadillo),
+// so a frame that stops at the tolerance still lies several tolerances off,
+// and each extrapolation carries that error on. From two frames it stays
+// bounded; a quadratic from three amplified it, and the whole armadillo's
+// drag took up to 13 iterations a frame instead of 3.
 class FramePredictor {
 public:
     // Sizes the history for `size` unknowns (interleaved x, y, z) and
