@@ -79,7 +79,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "deform: a start off its solution is not confirmed by its residual; the Krylov solve mends "
+    "deform: a start off its solution is not confirmed by its residual, the Krylov solve mends "
     "it") {
     System s;
     constexpr double tolerance = 1e-6;

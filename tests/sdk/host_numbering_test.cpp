@@ -77,7 +77,7 @@ std::vector<double> edit(dfm_mesh* mesh, const std::vector<std::uint32_t>& regio
 }  // namespace
 
 TEST_CASE(
-    "host numbering: seam-split buffers welded; the edit moves every copy alike and "
+    "host numbering: seam-split buffers welded, the edit moves every copy alike and "
     "equals the same edit on the welded mesh") {
     const mesh::Mesh limb = test::make_limb(16, 20, 0.2, 2.0);
     const mesh::Mesh split = test::split_corners(limb, [](std::size_t t) { return t % 3 == 0; });
