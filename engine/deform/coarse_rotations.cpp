@@ -93,8 +93,7 @@ void RotationFrames::build_coarse_field(const MeshModel& model, const UnknownMap
             heaviest_[r] = heaviest;
             const RigidityStencil& st = stencils_[r];
             for (std::size_t i = 0; i < slots; ++i) {
-                glm::dvec3 g;
-                for (int x = 0; x < 3; ++x) g[x] = st.pulled[x][i] + st.dual[i] * st.rest_dual[x];
+                const glm::dvec3 g(st.g[0][i], st.g[1][i], st.g[2][i]);
                 if (g == glm::dvec3(0.0)) continue;  // an unused slot
                 const std::uint32_t v = st.vertex[i];
                 if (pull_of[v] == mesh::no_index) {

@@ -61,7 +61,7 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
     mean_edge /= static_cast<double>(std::max<std::size_t>(model.topology.edges.size(), 1));
 
     // Each stencil is made on the stack and written once: filling a
-    // zeroed array would write its 340 bytes twice.
+    // zeroed array would write its 320 bytes twice.
     stencils_.clear();
     stencils_.reserve(dual_rows);
     fixed_.clear();
@@ -69,8 +69,8 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
         RigidityStencil s;
         const std::uint32_t f = rows.faces[r];
         const mesh::Triangle& t = mesh.triangles[f];
-        s.rest_dual = dual::dual_coordinate_at(mesh, model.dual, mesh.positions, f);
-        s.rest_dual2 = glm::dot(s.rest_dual, s.rest_dual);
+        const glm::dvec3 rest_dual = dual::dual_coordinate_at(mesh, model.dual, mesh.positions, f);
+        s.rest_dual2 = glm::dot(rest_dual, rest_dual);
         // The coefficients b_ki of every row of this dual row, by slot.
         std::array<std::array<double, slots>, pairs + 1> b{};
         std::size_t used = 0;
@@ -107,8 +107,8 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
             s.pair_weight2[k] = cc * cc;
             s.pair_target2 += glm::dot(rest_vector, rest_vector);
             for (int x = 0; x < 3; ++x) {
-                s.pulled[x][sc] += cc * rest_vector[x];
-                s.pulled[x][sd] += dc * rest_vector[x];
+                s.g[x][sc] += cc * rest_vector[x];
+                s.g[x][sd] += dc * rest_vector[x];
             }
             b[k + 1][sc] += cc;
             b[k + 1][sd] += dc;
@@ -122,6 +122,11 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
             const std::uint32_t e = t[(k + 1) % 3];
             const double length = glm::length(mesh.positions[a] - mesh.positions[e]);
             if (length > 0.0) add_pair(a, e, relative_edge_weight * mean_edge / length);
+        }
+        // The dual row's own target, l_f, pulled to each slot: every fit
+        // needs G_i whole, and it does not change.
+        for (int x = 0; x < 3; ++x) {
+            for (std::size_t i = 0; i < slots; ++i) s.g[x][i] = s.g[x][i] + s.dual[i] * rest_dual[x];
         }
         for (std::size_t i = 0; i < used; ++i) {
             if (s.unknown[i] == mesh::no_index) continue;
@@ -202,20 +207,11 @@ using SlotLanes = std::array<Doubles2, lanes>;
     return v[0] + v[1];
 }
 
-// What a dual row's fit needs before and after the rotation: |A_k p|²
-// summed over its rows and G_i by coordinate.
-struct PreparedRow {
-    double rows2;
-    std::array<SlotLanes, 3> g;
-};
-
 // Gathers dual row r's positions, fills lane `lane` of the covariance and
-// returns what the fit's result is applied with.
-[[gnu::always_inline]] inline void prepare_row(const FitPass& pass, std::size_t r, std::size_t lane,
-                                               fit_lanes::Mat3& covariance, PreparedRow& out) {
+// returns |A_k p|² summed over the row's rows, which the fit does not change.
+[[gnu::always_inline]] inline double prepare_row(const FitPass& pass, std::size_t r,
+                                                 std::size_t lane, fit_lanes::Mat3& covariance) {
     const RigidityStencil& s = pass.stencils[r];
-    // By coordinate, as arrays: glm's vec3[i] is a switch.
-    const std::array<double, 3> rest_dual{s.rest_dual.x, s.rest_dual.y, s.rest_dual.z};
     // The lanes are loaded from the positions themselves: a copy of them
     // on the stack, read back in other pairs, stalls each load on the
     // stores it spans.
@@ -229,7 +225,7 @@ struct PreparedRow {
     }
     // |A_k p|² does not depend on the fit: taken before it.
     double rows2 = 0.0;
-    std::array<SlotLanes, 3>& g = out.g;
+    std::array<SlotLanes, 3> g;
     std::array<SlotLanes, 3> e;
     for (std::size_t x = 0; x < 3; ++x) {
         Doubles2 product = lanes_at(&s.dual[0]) * p[x][0];
@@ -238,7 +234,7 @@ struct PreparedRow {
         rows2 += dual * dual;
         const double origin = p[x][0][0];
         for (std::size_t l = 0; l < lanes; ++l) {
-            g[x][l] = lanes_at(&s.pulled[x][2 * l]) + lanes_at(&s.dual[2 * l]) * rest_dual[x];
+            g[x][l] = lanes_at(&s.g[x][2 * l]);
             // Σ_i G_i = 0 (every row's coefficients sum to zero):
             // positions relative to the first slot give the same
             // covariance, with less cancellation.
@@ -250,7 +246,6 @@ struct PreparedRow {
                                 pass.positions[s.vertex[s.pair_slot[k][1]]];
         rows2 += s.pair_weight2[k] * glm::dot(edge, edge);
     }
-    out.rows2 = rows2;
     for (int row = 0; row < 3; ++row) {
         for (int column = 0; column < 3; ++column) {
             Doubles2 sum = e[row][0] * g[column][0];
@@ -258,6 +253,7 @@ struct PreparedRow {
             covariance.m[column][row][lane] = lane_sum(sum);
         }
     }
+    return rows2;
 }
 
 // Adds dual row r's own share of Aᵀ t, its own rotation's share of its
@@ -265,19 +261,20 @@ struct PreparedRow {
 // for the clusters' alignment (fit_and_add's).
 [[gnu::always_inline]] inline double finish_row(const FitPass& pass, std::size_t r,
                                                 std::size_t lane, const fit_lanes::Mat3& rotation,
-                                                double alignment, const PreparedRow& in) {
+                                                double alignment, double rows2) {
     const RigidityStencil& s = pass.stencils[r];
     const double own = pass.heaviest[r] == mesh::no_index ? 1.0 : 1.0 - coarse_share;
-    const std::array<SlotLanes, 3>& g = in.g;
     std::array<SlotLanes, 3> pull;  // own R_f G_i by coordinate
     for (int x = 0; x < 3; ++x) {
         const double r0 = own * rotation.m[0][x][lane];
         const double r1 = own * rotation.m[1][x][lane];
         const double r2 = own * rotation.m[2][x][lane];
-        for (std::size_t l = 0; l < lanes; ++l)
-            pull[x][l] = r0 * g[0][l] + r1 * g[1][l] + r2 * g[2][l];
+        for (std::size_t l = 0; l < lanes; ++l) {
+            pull[x][l] = r0 * lanes_at(&s.g[0][2 * l]) + r1 * lanes_at(&s.g[1][2 * l]) +
+                         r2 * lanes_at(&s.g[2][2 * l]);
+        }
     }
-    const double energy = in.rows2 - 2.0 * own * alignment + s.rest_dual2 + s.pair_target2;
+    const double energy = rows2 - 2.0 * own * alignment + s.rest_dual2 + s.pair_target2;
     if (pass.deferred != nullptr) {
         double* share = pass.deferred + r * deferred_stride;
         for (std::size_t i = 0; i < slots; ++i)
@@ -319,12 +316,12 @@ struct PreparedRow {
         }
         fit_lanes::Mat3 covariance;
         fit_lanes::Quat q;
-        std::array<PreparedRow, width> prepared;
+        std::array<double, width> rows2;
         for (std::size_t lane = 0; lane < width; ++lane) {
             // Past the last row, a lane repeats the first: its result is
             // dropped, and it stops when that row's fit does.
             const std::size_t r = first + (lane < used ? lane : 0);
-            prepare_row(pass, r, lane, covariance, prepared[lane]);
+            rows2[lane] = prepare_row(pass, r, lane, covariance);
             const glm::dquat& kept = pass.kept[r];
             q.w[lane] = kept.w;
             q.x[lane] = kept.x;
@@ -361,7 +358,7 @@ struct PreparedRow {
         for (std::size_t lane = 0; lane < used; ++lane) {
             const std::size_t r = first + lane;
             pass.fitted[r] = glm::dquat(q.w[lane], q.x[lane], q.y[lane], q.z[lane]);
-            energy += finish_row(pass, r, lane, rotation, alignment[lane], prepared[lane]);
+            energy += finish_row(pass, r, lane, rotation, alignment[lane], rows2[lane]);
         }
     }
     return energy;
