@@ -23,22 +23,18 @@ void forward_supernode(const CholeskySymbolic& sym, std::span<const double> valu
 
 // The updates of all its descendants into supernode s's own entries, pulled
 // in the order pushing would have applied them (by source, then row), each
-// a row's product taken as the push takes it, so that the bits are the same
+// source's rows pushed as forward pushes them, so that the bits are the same
 // either way.
 void pull_updates(const CholeskySymbolic& sym, std::span<const double> values, std::uint32_t s,
-                  double* y, std::size_t k) {
+                  double* y, std::size_t k, double* scratch) {
     for (std::size_t u = sym.update_begin[s]; u < sym.update_begin[s + 1]; ++u) {
         const SupernodeUpdate& update = sym.updates[u];
         const std::uint32_t d = update.source;
         const std::size_t wd = sym.column_begin[d + 1] - sym.column_begin[d];
-        const std::uint32_t* rows = &sym.rows[sym.row_begin[d]];
         const double* below = &values[sym.value_begin[d]] + wd * wd;
-        const double* yd = y + static_cast<std::size_t>(sym.column_begin[d]) * k;
-        for (std::size_t t = update.first; t < update.last; ++t) {
-            const double* row = below + (t - wd) * wd;
-            double* yt = y + static_cast<std::size_t>(rows[t]) * k;
-            for (std::size_t c = 0; c < k; ++c) yt[c] -= supernode::row_product(wd, row, yd + c, k);
-        }
+        supernode::push(update.last - update.first, wd, k, below + (update.first - wd) * wd,
+                        &sym.rows[sym.row_begin[d]] + update.first,
+                        y + static_cast<std::size_t>(sym.column_begin[d]) * k, y, scratch);
     }
 }
 
@@ -116,7 +112,7 @@ void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::
                     forward_supernode(sym, values_, s, y, k, mine, sym.column_begin[root + 1]);
         });
         for (const std::uint32_t s : schedule_.top) {
-            pull_updates(sym, values_, s, y, k);
+            pull_updates(sym, values_, s, y, k, below);
             forward_supernode(sym, values_, s, y, k, below, 0);
         }
         for (std::size_t p = schedule_.top.size(); p-- > 0;)

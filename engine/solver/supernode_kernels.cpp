@@ -354,7 +354,29 @@ template <std::size_t K, std::size_t max_chunks, bool eight_lanes>
     join_columns<K>(w, kk, s, own);
 }
 
+template <std::size_t K>
+[[gnu::always_inline]] inline void push_body(std::size_t h, std::size_t w, std::size_t k,
+                                             const double* below, const std::uint32_t* rows,
+                                             const double* own, double* y, double* scratch) {
+    split_columns<K>(w, k, own, scratch);
+    push_rows<K>(h, w, k, below, scratch, rows, y);
+}
+
 #if DFM_X86_DISPATCH
+template <std::size_t K>
+DFM_TARGET_AVX2 void push_avx2(std::size_t h, std::size_t w, std::size_t k, const double* below,
+                               const std::uint32_t* rows, const double* own, double* y,
+                               double* scratch) {
+    push_body<K>(h, w, k, below, rows, own, y, scratch);
+}
+
+template <std::size_t K>
+DFM_TARGET_AVX512 void push_avx512(std::size_t h, std::size_t w, std::size_t k,
+                                   const double* below, const std::uint32_t* rows,
+                                   const double* own, double* y, double* scratch) {
+    push_body<K>(h, w, k, below, rows, own, y, scratch);
+}
+
 template <std::size_t K>
 DFM_TARGET_AVX2 void forward_avx2(std::size_t m, std::size_t w, std::size_t push, std::size_t k,
                                   const double* l, const std::uint32_t* rows, double* own,
@@ -397,6 +419,16 @@ void forward_for(simd::Set set, std::size_t m, std::size_t w, std::size_t push, 
 }
 
 template <std::size_t K>
+void push_for(simd::Set set, std::size_t h, std::size_t w, std::size_t k, const double* below,
+              const std::uint32_t* rows, const double* own, double* y, double* scratch) {
+#if DFM_X86_DISPATCH
+    if (set == simd::Set::avx512) return push_avx512<K>(h, w, k, below, rows, own, y, scratch);
+    if (set == simd::Set::avx2) return push_avx2<K>(h, w, k, below, rows, own, y, scratch);
+#endif
+    push_body<K>(h, w, k, below, rows, own, y, scratch);
+}
+
+template <std::size_t K>
 void backward_for(simd::Set set, std::size_t m, std::size_t w, std::size_t k, const double* l,
                   const std::uint32_t* rows, double* own, const double* y, double* scratch,
                   const char* ahead, std::size_t ahead_bytes) {
@@ -411,14 +443,19 @@ void backward_for(simd::Set set, std::size_t m, std::size_t w, std::size_t k, co
 
 }  // namespace
 
-double row_product(std::size_t w, const double* row, const double* own, std::size_t stride) {
-    const std::size_t w4 = w - w % 4;
-    double sum[4] = {0.0, 0.0, 0.0, 0.0};
-    for (std::size_t j = 0; j < w4; j += 4)
-        for (std::size_t lane = 0; lane < 4; ++lane)
-            sum[lane] += row[j + lane] * own[(j + lane) * stride];
-    for (std::size_t j = w4; j < w; ++j) sum[j - w4] += row[j] * own[j * stride];
-    return (sum[0] + sum[1]) + (sum[2] + sum[3]);
+void push(simd::Set set, std::size_t h, std::size_t w, std::size_t k, const double* below,
+          const std::uint32_t* rows, const double* own, double* y, double* scratch) {
+    switch (k) {
+        case 1: return push_for<1>(set, h, w, k, below, rows, own, y, scratch);
+        case 2: return push_for<2>(set, h, w, k, below, rows, own, y, scratch);
+        case 3: return push_for<3>(set, h, w, k, below, rows, own, y, scratch);
+        default: return push_for<0>(set, h, w, k, below, rows, own, y, scratch);
+    }
+}
+
+void push(std::size_t h, std::size_t w, std::size_t k, const double* below,
+          const std::uint32_t* rows, const double* own, double* y, double* scratch) {
+    push(simd::widest(), h, w, k, below, rows, own, y, scratch);
 }
 
 void forward(simd::Set set, std::size_t m, std::size_t w, std::size_t push, std::size_t k,

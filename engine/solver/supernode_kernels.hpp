@@ -56,8 +56,16 @@ void backward(simd::Set set, std::size_t m, std::size_t w, std::size_t k, const 
               const std::uint32_t* rows, double* own, const double* y, double* scratch,
               const char* ahead, std::size_t ahead_bytes);
 
-// The product of a row below with own entries held `stride` apart, the sum
-// taken as the forward solve's push takes it (the same bits).
-double row_product(std::size_t w, const double* row, const double* own, std::size_t stride);
+// Forward's push of h rows below a supernode of w columns, made later and
+// elsewhere: each row's product with the supernode's own entries `own`
+// (final), subtracted from its row of y, the bits of forward's push. The
+// rows start at `below` (w entries each) and go to rows `rows`; `scratch`
+// holds w k doubles. With the supernodes split between threads, the one
+// above them pulls what the rows of another thread's supernode push into
+// it.
+void push(std::size_t h, std::size_t w, std::size_t k, const double* below,
+          const std::uint32_t* rows, const double* own, double* y, double* scratch);
+void push(simd::Set set, std::size_t h, std::size_t w, std::size_t k, const double* below,
+          const std::uint32_t* rows, const double* own, double* y, double* scratch);
 
 }  // namespace dfm::solver::supernode
