@@ -19,6 +19,7 @@ struct LinearSolver::State {
     std::unique_ptr<solver::Preconditioner> preconditioner;
     solver::PbcgWorkspace workspace;
     solver::PbcgResult result;
+    jobs::WorkerPool* pool = nullptr;  // the factor's, also the residual's and the Krylov solve's
     bool exact = false;  // the preconditioner is the complete factor of the matrix
     // The largest max |M⁻¹ r₀| / max |r₀| a Krylov solve has started from
     // (0: none yet): with the complete factor, how much a residual of its
@@ -48,14 +49,14 @@ bool LinearSolver::State::confirmed_by_residual(std::span<const double> rhs,
                                                 std::span<const double> x, double tolerance) {
     constexpr std::size_t k = 3;
     const std::size_t n = matrix.rows;
-    solver::kernels::multiply(matrix, x, residual, k, nullptr);
+    solver::kernels::multiply(matrix, x, residual, k, pool);
     for (std::size_t i = 0; i < n * k; ++i) residual[i] = rhs[i] - residual[i];
-    solver::kernels::max_abs(residual, n, k, largest, partial, nullptr);
+    solver::kernels::max_abs(residual, n, k, largest, partial, pool);
     for (std::size_t c = 0; c < k; ++c) {
         if (!(amplification * largest[c] * residual_check_margin <= tolerance)) return false;
     }
-    solver::kernels::dot(residual, residual, n, k, residual2, partial, nullptr);
-    solver::kernels::dot(rhs, rhs, n, k, rhs2, partial, nullptr);
+    solver::kernels::dot(residual, residual, n, k, residual2, partial, pool);
+    solver::kernels::dot(rhs, rhs, n, k, rhs2, partial, pool);
     result.iterations = 0;
     result.converged = true;
     for (std::size_t c = 0; c < k; ++c) {
@@ -88,6 +89,7 @@ Status LinearSolver::setup(solver::CsrMatrix matrix, solver::PreconditionerKind 
                            jobs::WorkerPool* pool, const std::atomic<bool>* stop) {
     auto state = std::make_unique<State>();
     state->matrix = std::move(matrix);
+    state->pool = pool;
     if (analyzed_ != nullptr && preconditioner == solver::PreconditionerKind::cholesky) {
         state->preconditioner = std::move(analyzed_);
     } else {
@@ -150,6 +152,7 @@ Status LinearSolver::solve(std::span<const double> rhs, std::span<double> x, dou
     }
     solver::PbcgOptions options;
     options.tolerance = tolerance;
+    options.pool = s.pool;
     if (Status st = solver::pbcg_solve(s.matrix, *s.preconditioner, rhs, x, 3, options, s.workspace,
                                        s.result);
         !st) {
