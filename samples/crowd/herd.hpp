@@ -28,6 +28,7 @@ struct Cow {
     std::vector<int> submitted_at;  // the tick of each generation (index = generation)
     int last_finished_tick = -1;    // when it last picked up a finished frame
     int longest_wait = 0;           // the most ticks between two finished frames
+    int finished = 0;               // finished frames picked up
 };
 
 // The regions on the paper's cow ("model:cow"); false with a message on

@@ -9,8 +9,10 @@
 //              [--budget-us N] [--png OUT]
 //
 // The last line printed is one JSON object: the age of each cow's newest
-// finished result and the longest wait between two, the process's threads,
-// and each session's memory and set-up time.
+// finished result and the longest wait between two, the finished frames (in
+// all, and the fewest of one cow), how many cows' last targets were solved
+// after the loop, the process's threads, and each session's memory and
+// set-up time.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -102,6 +104,7 @@ struct Figures {
     std::vector<int> ages;  // each cow's, each tick
     std::vector<double> host_ms;
     int finished_frames = 0;
+    int last_targets_solved = 0;  // cows whose last submitted targets were solved
 };
 
 // The fixed-step loop: every cow's limb moves every tick, and the newest
@@ -143,6 +146,7 @@ bool run(const Options& o, dfm_context* context, double diagonal, std::vector<he
                 cow.longest_wait = std::max(cow.longest_wait, tick - cow.last_finished_tick);
                 cow.last_finished_tick = tick;
                 cow.shown = info.generation;
+                ++cow.finished;
                 ++figures.finished_frames;
             }
             figures.ages.push_back(tick - cow.submitted_at[cow.shown]);
@@ -153,6 +157,14 @@ bool run(const Options& o, dfm_context* context, double diagonal, std::vector<he
     }
     for (herd::Cow& cow : cows) {
         cow.longest_wait = std::max(cow.longest_wait, o.ticks - cow.last_finished_tick);
+    }
+    // The newest targets win: each cow's last ones are solved, whatever was
+    // skipped on the way (the wait runs the work where the host steps it).
+    for (const herd::Cow& cow : cows) {
+        const std::uint64_t last = cow.submitted_at.size() - 1;
+        dfm_frame_info info = {};
+        if (!ok(dfm_session_wait(cow.session, last, -1, &info), "wait")) return false;
+        if (info.generation == last && info.status == DFM_OK) ++figures.last_targets_solved;
     }
     return true;
 }
@@ -225,11 +237,16 @@ int main(int argc, char** argv) {
     }
     if (status == 0) {
         int longest_wait = 0;
-        for (const herd::Cow& cow : cows) longest_wait = std::max(longest_wait, cow.longest_wait);
+        int fewest_finished = cows.empty() ? 0 : cows.front().finished;
+        for (const herd::Cow& cow : cows) {
+            longest_wait = std::max(longest_wait, cow.longest_wait);
+            fewest_finished = std::min(fewest_finished, cow.finished);
+        }
         std::printf(
             "{\"mode\": \"%s\", \"cows\": %zu, \"workers\": %u, \"ticks\": %d, "
             "\"result_age_ticks\": {\"p50\": %d, \"p99\": %d, \"max\": %d}, "
             "\"longest_wait_ticks\": %d, \"finished_frames\": %d, "
+            "\"fewest_finished_frames\": %d, \"last_targets_solved\": %d, "
             "\"threads\": {\"process\": %d, \"host\": %d, \"library\": %d}, "
             "\"session_bytes\": {\"p50\": %zu, \"max\": %zu, \"largest\": {\"factor\": %zu, "
             "\"normal_matrix\": %zu, \"iteration\": %zu, \"frames\": %zu, \"staging\": %zu}}, "
@@ -237,7 +254,8 @@ int main(int argc, char** argv) {
             "\"host_tick_ms\": {\"p50\": %.3f, \"p99\": %.3f}}\n",
             options.mode_name.c_str(), cows.size(), context_desc.worker_count, options.ticks,
             percentile(figures.ages, 0.5), percentile(figures.ages, 0.99),
-            percentile(figures.ages, 1.0), longest_wait, figures.finished_frames, threads,
+            percentile(figures.ages, 1.0), longest_wait, figures.finished_frames,
+            fewest_finished, figures.last_targets_solved, threads,
             host_threads, threads - host_threads, percentile(session_bytes, 0.5),
             percentile(session_bytes, 1.0), largest.factor, largest.normal_matrix,
             largest.iteration, largest.frames, largest.staging, percentile(setup_ms, 0.5),
