@@ -126,7 +126,8 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
         // The dual row's own target, l_f, pulled to each slot: every fit
         // needs G_i whole, and it does not change.
         for (int x = 0; x < 3; ++x) {
-            for (std::size_t i = 0; i < slots; ++i) s.g[x][i] = s.g[x][i] + s.dual[i] * rest_dual[x];
+            for (std::size_t i = 0; i < slots; ++i)
+                s.g[x][i] = s.g[x][i] + s.dual[i] * rest_dual[x];
         }
         for (std::size_t i = 0; i < used; ++i) {
             if (s.unknown[i] == mesh::no_index) continue;

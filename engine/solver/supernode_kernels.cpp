@@ -371,9 +371,9 @@ DFM_TARGET_AVX2 void push_avx2(std::size_t h, std::size_t w, std::size_t k, cons
 }
 
 template <std::size_t K>
-DFM_TARGET_AVX512 void push_avx512(std::size_t h, std::size_t w, std::size_t k,
-                                   const double* below, const std::uint32_t* rows,
-                                   const double* own, double* y, double* scratch) {
+DFM_TARGET_AVX512 void push_avx512(std::size_t h, std::size_t w, std::size_t k, const double* below,
+                                   const std::uint32_t* rows, const double* own, double* y,
+                                   double* scratch) {
     push_body<K>(h, w, k, below, rows, own, y, scratch);
 }
 

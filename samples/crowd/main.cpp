@@ -254,12 +254,11 @@ int main(int argc, char** argv) {
             "\"host_tick_ms\": {\"p50\": %.3f, \"p99\": %.3f}}\n",
             options.mode_name.c_str(), cows.size(), context_desc.worker_count, options.ticks,
             percentile(figures.ages, 0.5), percentile(figures.ages, 0.99),
-            percentile(figures.ages, 1.0), longest_wait, figures.finished_frames,
-            fewest_finished, figures.last_targets_solved, threads,
-            host_threads, threads - host_threads, percentile(session_bytes, 0.5),
-            percentile(session_bytes, 1.0), largest.factor, largest.normal_matrix,
-            largest.iteration, largest.frames, largest.staging, percentile(setup_ms, 0.5),
-            percentile(setup_ms, 1.0), percentile(figures.host_ms, 0.5),
+            percentile(figures.ages, 1.0), longest_wait, figures.finished_frames, fewest_finished,
+            figures.last_targets_solved, threads, host_threads, threads - host_threads,
+            percentile(session_bytes, 0.5), percentile(session_bytes, 1.0), largest.factor,
+            largest.normal_matrix, largest.iteration, largest.frames, largest.staging,
+            percentile(setup_ms, 0.5), percentile(setup_ms, 1.0), percentile(figures.host_ms, 0.5),
             percentile(figures.host_ms, 0.99));
     }
     herd::destroy_cows(cows);
