@@ -20,7 +20,7 @@ struct LinearSolver::State {
     solver::PbcgWorkspace workspace;
     solver::PbcgResult result;
     jobs::WorkerPool* pool = nullptr;  // the factor's, also the residual's and the Krylov solve's
-    bool exact = false;  // the preconditioner is the complete factor of the matrix
+    bool exact = false;                // the preconditioner is the complete factor of the matrix
     // The largest max |M⁻¹ r₀| / max |r₀| a Krylov solve has started from
     // (0: none yet): with the complete factor, how much a residual of its
     // solves grows into an error.

@@ -44,10 +44,10 @@ struct RigidityStencil {
     std::array<double, slots> dual{};            // the dual row's coefficients
     std::array<double, pairs> pair_weight2{};    // (w s)²: A_k p = w s (v_c − v_d)
     std::array<std::array<std::uint8_t, 2>, pairs> pair_slot{};  // the slots of v_c, v_d
-    std::uint8_t pair_count = 0;                        // the rows in use, in their order in A
+    std::uint8_t pair_count = 0;                   // the rows in use, in their order in A
     std::array<std::array<double, slots>, 3> g{};  // G_i, of the dual row and its rigidity rows
     double rest_dual2 = 0.0;                       // |l_f|² at rest
-    double pair_target2 = 0.0;                          // Σ_k |g_k|² over the rigidity rows
+    double pair_target2 = 0.0;                     // Σ_k |g_k|² over the rigidity rows
 };
 
 // ROIs of more unknowns than this take a rigidity weight smaller by the
