@@ -28,13 +28,9 @@ constexpr std::size_t prefetch_rows = 4;
 
 }  // namespace
 
-void RotationFrames::build_coarse_field(const MeshModel& model, const UnknownMap& unknowns,
-                                        const SystemRows& rows) {
-    const mesh::Mesh& mesh = model.mesh;
+RotationClusters coarse_clusters(const MeshModel& model, const SystemRows& rows) {
     const std::size_t dual_rows = rows.size();
-    // The coarse rotation field over the rows, neighbours across the dual
-    // edges between rows.
-    std::vector<std::uint32_t> row_of(mesh.face_count(), mesh::no_index);
+    std::vector<std::uint32_t> row_of(model.mesh.face_count(), mesh::no_index);
     for (std::size_t r = 0; r < dual_rows; ++r)
         row_of[rows.faces[r]] = static_cast<std::uint32_t>(r);
     std::vector<std::array<std::uint32_t, 3>> ring(dual_rows);
@@ -46,6 +42,11 @@ void RotationFrames::build_coarse_field(const MeshModel& model, const UnknownMap
     }
     RotationClusters clusters;
     clusters.build(ring, clusters_per_roi, patches_per_roi);
+    return clusters;
+}
+
+void RotationFrames::build_coarse_field(const RotationClusters& clusters) {
+    const std::size_t dual_rows = stencils_.size();
 
     // A patch's rows are linear in their vertices as a row's are:
     // Σ_{f ∈ patch} A_f p = Σ_v p_v H_pvᵀ with H_pv = Σ_{f ∈ patch} G_f,slot(v),
@@ -67,7 +68,7 @@ void RotationFrames::build_coarse_field(const MeshModel& model, const UnknownMap
     patch_pulls_.clear();
     member_offsets_.assign(1, 0);
     members_.clear();
-    std::vector<std::uint32_t> pull_of(mesh.vertex_count(), mesh::no_index);
+    std::vector<std::uint32_t> pull_of(local_.size(), mesh::no_index);
     for (std::size_t p = 0; p < patches; ++p) {
         std::uint32_t heaviest = mesh::no_index;
         double heaviest_weight = 0.0;
@@ -98,7 +99,7 @@ void RotationFrames::build_coarse_field(const MeshModel& model, const UnknownMap
                 const std::uint32_t v = st.vertex[i];
                 if (pull_of[v] == mesh::no_index) {
                     pull_of[v] = static_cast<std::uint32_t>(patch_pulls_.size());
-                    patch_pulls_.push_back({v, unknowns.unknown_of_vertex[v], glm::dvec3(0.0)});
+                    patch_pulls_.push_back({v, glm::dvec3(0.0)});
                 }
                 patch_pulls_[pull_of[v]].pulled += g;
             }
@@ -118,7 +119,8 @@ void RotationFrames::build_coarse_field(const MeshModel& model, const UnknownMap
 // Each cluster's rotation fitted to its patches' covariances, weighted (a
 // patch's taken from its first vertex's position: Σ_v H_pv = 0, and the sum
 // cancels less).
-double RotationFrames::fit_clusters(std::span<const glm::dvec3> positions, int steps) {
+double RotationFrames::fit_clusters(int steps) {
+    const std::span<const glm::dvec3> positions = local_;
     std::vector<glm::dmat3>& sums = cluster_sums_;
     std::fill(sums.begin(), sums.end(), glm::dmat3(0.0));
     for (std::size_t p = 0; p + 1 < patch_offsets_.size(); ++p) {
@@ -142,15 +144,16 @@ double RotationFrames::fit_clusters(std::span<const glm::dvec3> positions, int s
 
 // The clusters' shares of Aᵀ t: θ Σ_c κ_pc R_c H_pv at each unknown.
 void RotationFrames::add_cluster_shares(std::span<double> rhs) const {
+    const std::size_t unknowns = rhs.size() / 3;
     for (std::size_t p = 0; p + 1 < patch_offsets_.size(); ++p) {
         const std::span<const Member> members = patch_members(p);
         if (members.empty()) continue;
         glm::dmat3 rotation(0.0);
         for (const Member& m : members) rotation += m.share * cluster_rotations_[m.cluster];
         for (const PatchPull& t : patch_pulls(p)) {
-            if (t.unknown == mesh::no_index) continue;
+            if (t.vertex >= unknowns) continue;
             const glm::dvec3 share = rotation * t.pulled;
-            double* out = &rhs[3 * t.unknown];
+            double* out = &rhs[3 * t.vertex];
             out[0] += share.x;
             out[1] += share.y;
             out[2] += share.z;

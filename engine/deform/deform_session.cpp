@@ -14,6 +14,7 @@
 #include "core/stopwatch.hpp"
 #include "deform/fitted_iteration.hpp"
 #include "deform/paper_iteration.hpp"
+#include "deform/row_order.hpp"
 
 namespace dfm::deform {
 
@@ -147,11 +148,20 @@ Status DeformSession::build_system(const std::atomic<bool>* stop) {
     const Status cancelled(Errc::cancelled, "the set-up of the edit was stopped");
     const auto phase = std::chrono::steady_clock::now();
     SystemRows rows = collect_rows(model_, unknowns_);
+    // The fitted method's rows and unknowns are put in the surface's order
+    // (row_order.hpp) after its clusters are made: the clusters depend on
+    // the rows' numbering (each patch grows from the lowest row left), and
+    // made over the rows as collect_rows lists them they stay the same.
+    RotationClusters clusters;
+    if (settings_.method == DeformMethod::fitted_rotations) {
+        clusters = coarse_clusters(model_, rows);
+        order_by_patch(clusters, rows, unknowns_, state_.soft_handles);
+    }
     if (stopped()) return cancelled;
     solver::CsrMatrix normal;
     const auto build_and_assemble = [&] {
         if (settings_.method == DeformMethod::fitted_rotations) {
-            auto fitted = std::make_unique<FittedIteration>(model_, unknowns_, rows);
+            auto fitted = std::make_unique<FittedIteration>(model_, unknowns_, rows, clusters);
             setup_.rows_ms = ms_since(phase);
             const auto assembly = std::chrono::steady_clock::now();
             normal = fitted->assemble_normal_matrix(state_, stop);

@@ -55,8 +55,8 @@ void align_to_handles(IterationState& state) {
 }  // namespace
 
 FittedIteration::FittedIteration(const MeshModel& model, const UnknownMap& unknowns,
-                                 const SystemRows& rows) {
-    rotations_.build(model, unknowns, rows);
+                                 const SystemRows& rows, const RotationClusters& clusters) {
+    rotations_.build(model, unknowns, rows, clusters);
 }
 
 solver::CsrMatrix FittedIteration::assemble_normal_matrix(IterationState& state,
@@ -76,7 +76,7 @@ double FittedIteration::fit_and_prepare(IterationState& state, std::span<const d
     report.rhs_ms += ms_since(phase);
     phase = std::chrono::steady_clock::now();
     const double fitted =
-        rotations_.fit_and_add(state.positions, rotation_steps, state.rhs, state.settings->pool);
+        rotations_.fit_and_add(x, state.positions, rotation_steps, state.rhs, state.settings->pool);
     report.normals_ms += ms_since(phase);
     return handles + fitted;
 }

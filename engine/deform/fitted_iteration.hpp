@@ -15,9 +15,10 @@ namespace dfm::deform {
 
 class FittedIteration final : public OuterIteration {
 public:
-    // The rigidity rows and the rotation clusters of the edit's dual rows
-    // (RotationFrames::build).
-    FittedIteration(const MeshModel& model, const UnknownMap& unknowns, const SystemRows& rows);
+    // The rigidity rows of the edit's dual rows and the coarse field of
+    // their clusters (RotationFrames::build).
+    FittedIteration(const MeshModel& model, const UnknownMap& unknowns, const SystemRows& rows,
+                    const RotationClusters& clusters);
 
     // N = AᵀA + w² H + ε I over the dual and rigidity rows; sets
     // state.epsilon.

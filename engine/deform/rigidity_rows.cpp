@@ -47,7 +47,7 @@ double balanced_rigidity_weight(std::size_t unknowns) {
 }
 
 void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
-                           const SystemRows& rows) {
+                           const SystemRows& rows, const RotationClusters& clusters) {
     const mesh::Mesh& mesh = model.mesh;
     const double weight = balanced_rigidity_weight(unknowns.count());
     const std::size_t dual_rows = rows.size();
@@ -59,6 +59,20 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
         mean_edge += glm::length(mesh.positions[e[0]] - mesh.positions[e[1]]);
     }
     mean_edge /= static_cast<double>(std::max<std::size_t>(model.topology.edges.size(), 1));
+
+    // The local step's numbering: the unknowns', then the fixed vertices
+    // in the order the rows first reach them.
+    const auto unknown_count = static_cast<std::uint32_t>(unknowns.count());
+    std::vector<std::uint32_t> fixed_local(mesh.vertex_count(), mesh::no_index);
+    fixed_vertices_.clear();
+    const auto local_of = [&](std::uint32_t v) {
+        if (unknowns.unknown_of_vertex[v] != mesh::no_index) return unknowns.unknown_of_vertex[v];
+        if (fixed_local[v] == mesh::no_index) {
+            fixed_local[v] = unknown_count + static_cast<std::uint32_t>(fixed_vertices_.size());
+            fixed_vertices_.push_back(v);
+        }
+        return fixed_local[v];
+    };
 
     // Each stencil is made on the stack and written once: filling a
     // zeroed array would write its 320 bytes twice.
@@ -76,7 +90,7 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
         std::size_t used = 0;
         for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
             const RowEntry& e = rows.entries[p];
-            s.vertex[used] = e.vertex;
+            s.vertex[used] = local_of(e.vertex);
             s.unknown[used] = e.unknown;
             s.dual[used] = e.coefficient;
             b[0][used] = e.coefficient;
@@ -89,8 +103,9 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
         // A rigidity row joins two vertices of f's dual 1-ring, which are
         // all in the dual row: w s (v_c − v_d), for its rest vector.
         auto slot_of = [&](std::uint32_t v) {
+            const std::uint32_t local = local_of(v);
             std::size_t i = 0;
-            while (i + 1 < used && s.vertex[i] != v) ++i;
+            while (i + 1 < used && s.vertex[i] != local) ++i;
             return static_cast<std::uint8_t>(i);
         };
         auto add_pair = [&](std::uint32_t c, std::uint32_t d, double scale) {
@@ -154,10 +169,11 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
         }
     }
     fixed_.resize(merged);
+    local_.resize(unknown_count + fixed_vertices_.size());
     kept_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
     fitted_ = kept_;
 
-    build_coarse_field(model, unknowns, rows);
+    build_coarse_field(clusters);
 }
 
 std::size_t RotationFrames::rigidity_rows() const {
@@ -389,10 +405,16 @@ double fit_rows(const FitPass& pass) {
 
 }  // namespace
 
-double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int steps,
+double RotationFrames::fit_and_add(std::span<const double> x,
+                                   std::span<const glm::dvec3> positions, int steps,
                                    std::span<double> rhs, jobs::WorkerPool* pool) {
+    const std::size_t unknowns = local_.size() - fixed_vertices_.size();
+    std::memcpy(local_.data(), x.data(), unknowns * sizeof(glm::dvec3));
+    for (std::size_t k = 0; k < fixed_vertices_.size(); ++k)
+        local_[unknowns + k] = positions[fixed_vertices_[k]];
+    const std::span<const glm::dvec3> local = local_;
     for (const FixedCoupling& c : fixed_) {
-        const glm::dvec3& p = positions[c.vertex];
+        const glm::dvec3& p = local[c.vertex];
         double* out = &rhs[3 * c.unknown];
         out[0] += c.coefficient * p.x;
         out[1] += c.coefficient * p.y;
@@ -401,10 +423,9 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int st
 
     // The clusters first: a solve's first fit starts a row from its
     // cluster's rotation where that aligns it better.
-    const double cluster_alignment = fit_clusters(positions, steps);
+    const double cluster_alignment = fit_clusters(steps);
     const std::size_t count = stencils_.size();
-    const FitPass whole{stencils_,       kept_,     fitted_, heaviest_,
-                        cluster_fitted_, positions, steps,   rhs};
+    const FitPass whole{stencils_, kept_, fitted_, heaviest_, cluster_fitted_, local, steps, rhs};
     double energy = 0.0;
     if (pool == nullptr || pool->thread_count() < 2 || count < jobs::parallel_minimum) {
         energy = fit_rows(whole);
@@ -420,7 +441,7 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int st
                            std::span(fitted_).subspan(begin, end - begin),
                            std::span(heaviest_).subspan(begin, end - begin),
                            cluster_fitted_,
-                           positions,
+                           local,
                            steps,
                            rhs,
                            deferred};
@@ -438,10 +459,10 @@ double RotationFrames::fit_and_add(std::span<const glm::dvec3> positions, int st
         // still takes the rows in order. A row's stencil and the unknowns it
         // adds to are fetched merge_ahead rows ahead; the adds wait on them
         // otherwise.
-        const std::uint32_t unknowns = static_cast<std::uint32_t>(rhs.size() / 3);
+        const auto split = static_cast<std::uint32_t>(unknowns / 2);
         pool->run(2, [&](std::size_t task) {
-            const std::uint32_t lo = task == 0 ? 0 : unknowns / 2;
-            const std::uint32_t hi = task == 0 ? unknowns / 2 : unknowns;
+            const std::uint32_t lo = task == 0 ? 0 : split;
+            const auto hi = task == 0 ? split : static_cast<std::uint32_t>(unknowns);
             for (std::size_t r = half; r < count; ++r) {
                 if (r + 2 * merge_ahead < count)
                     __builtin_prefetch(&stencils_[r + 2 * merge_ahead]);

@@ -11,6 +11,7 @@
 #include "core/pooled_allocator.hpp"
 #include "deform/mesh_model.hpp"
 #include "deform/normal_system.hpp"
+#include "deform/rotation_clusters.hpp"
 #include "jobs/worker_pool.hpp"
 
 // The default method's local step (docs/method.md). Each dual row f gets a
@@ -32,6 +33,9 @@ namespace dfm::deform {
 // Σ_k |A_k p − R_f g_k|² = Σ_k |A_k p|² − 2 tr(R_fᵀ C) + Σ_k |g_k|², its
 // middle term the fit's own alignment. Unused slots and pairs have zero
 // coefficients. G_i is kept by coordinate so that its loops vectorise.
+// The slots' vertices are numbered as the local step reads them
+// (RotationFrames): an unknown by its number, the k-th fixed vertex the
+// rows reach as the unknowns' count plus k.
 struct RigidityStencil {
     static constexpr std::size_t slots = 6;  // a dual row's vertices: f's and the three opposite
     static constexpr std::size_t pairs = 6;  // rigidity rows per dual row: 3 dual, 3 face edges
@@ -39,7 +43,7 @@ struct RigidityStencil {
     // What the assembly of N reads comes first and together (unknown to
     // pair_count), so that each of a stencil's several reads there, out of
     // order, takes as few cache lines as the fields allow.
-    std::array<std::uint32_t, slots> vertex{};
+    std::array<std::uint32_t, slots> vertex{};  // in the local step's numbering
     std::array<std::uint32_t, slots> unknown{};  // no_index: fixed, or unused
     std::array<double, slots> dual{};            // the dual row's coefficients
     std::array<double, pairs> pair_weight2{};    // (w s)²: A_k p = w s (v_c − v_d)
@@ -74,15 +78,20 @@ double balanced_rigidity_weight(std::size_t unknowns);
 // and compressive pushes folded far less (docs/method.md).
 inline constexpr double coarse_share = 0.5;
 
+// The clusters of the coarse rotation field over the dual rows of `rows`
+// (those that touch an unknown), neighbours across the dual edges.
+RotationClusters coarse_clusters(const MeshModel& model, const SystemRows& rows);
+
 class RotationFrames {
 public:
     // Makes the rigidity rows of each dual row of `rows` (those that touch
     // an unknown), weighted by balanced_rigidity_weight against
-    // the dual Laplacian rows, gathers the rows in clusters
-    // (rotation_clusters.hpp), and starts every rotation at the identity.
-    // A's rows are the dual rows in their order, then each dual row's
-    // rigidity rows in turn.
-    void build(const MeshModel& model, const UnknownMap& unknowns, const SystemRows& rows);
+    // the dual Laplacian rows, takes `clusters` (coarse_clusters of the
+    // same rows) for the coarse field, and starts every rotation at the
+    // identity. A's rows are the dual rows in their order, then each dual
+    // row's rigidity rows in turn.
+    void build(const MeshModel& model, const UnknownMap& unknowns, const SystemRows& rows,
+               const RotationClusters& clusters);
 
     // N = AᵀA + w² H + ε I over A's rows, each entry summed in A's row
     // order (the bits of assemble_normal_matrix over the same rows), with
@@ -94,7 +103,8 @@ public:
                                              const std::atomic<bool>* stop = nullptr) const;
 
     // The local step, and the global step's right-hand side: fits each dual
-    // row's own rotation R_f and each cluster's rotation R_c to `positions`
+    // row's own rotation R_f and each cluster's rotation R_c to the unknowns
+    // at `x` (3 interleaved columns) and the fixed vertices at `positions`
     // (the whole mesh), starting from the last kept fits (keep_fit) with at
     // most `steps` Newton steps, then adds Aᵀ (t − A_fixed p_fixed) to rhs
     // (3 interleaved columns; write_handle_terms starts it) for the rows'
@@ -106,8 +116,8 @@ public:
     // never raises the energy over the kept rotations.
     // With `pool` (optional) of two threads or more, a large ROI's rows are
     // fitted in two halves side by side, with the same bits.
-    double fit_and_add(std::span<const glm::dvec3> positions, int steps, std::span<double> rhs,
-                       jobs::WorkerPool* pool = nullptr);
+    double fit_and_add(std::span<const double> x, std::span<const glm::dvec3> positions,
+                       int steps, std::span<double> rhs, jobs::WorkerPool* pool = nullptr);
 
     // Makes the last fit the next one's starting point. A refused trial step
     // is not kept: the next fit starts again from the rotations before it.
@@ -119,38 +129,42 @@ public:
     std::size_t dual_rows() const { return stencils_.size(); }
     std::size_t rigidity_rows() const;
     std::size_t memory_bytes() const {
-        return capacity_bytes(stencils_, fixed_, kept_, fitted_, deferred_, heaviest_,
+        return capacity_bytes(stencils_, fixed_, fixed_vertices_, local_, kept_, fitted_, deferred_, heaviest_,
                               patch_offsets_, patch_pulls_, member_offsets_, members_,
                               cluster_kept_, cluster_fitted_, cluster_rotations_, cluster_sums_);
     }
 
 private:
-    // coarse_rotations.cpp: the clusters and patches of the rows, their
-    // rotations fitted to `positions` (returns Σ_c tr(R_cᵀ θ A_c)), and
-    // their shares of the right-hand side.
-    void build_coarse_field(const MeshModel& model, const UnknownMap& unknowns,
-                            const SystemRows& rows);
-    double fit_clusters(std::span<const glm::dvec3> positions, int steps);
+    // coarse_rotations.cpp: the patches' sums over their rows, the
+    // clusters' rotations fitted to local_ (returns Σ_c tr(R_cᵀ θ A_c)),
+    // and their shares of the right-hand side.
+    void build_coarse_field(const RotationClusters& clusters);
+    double fit_clusters(int steps);
     void add_cluster_shares(std::span<double> rhs) const;
 
     // −(Aᵀ A)_uv between an unknown u and a fixed vertex v: the fixed
     // vertices' share of the right-hand side, −Σ (Aᵀ A)_uv p_v.
     struct FixedCoupling {
         std::uint32_t unknown;
-        std::uint32_t vertex;
+        std::uint32_t vertex;  // in the local step's numbering
         double coefficient;
     };
 
     PooledVector<RigidityStencil> stencils_;  // per dual row
     std::vector<FixedCoupling> fixed_;
+    // The local step's numbering (RigidityStencil): the fixed vertices'
+    // numbers in the mesh, and the positions of all, the unknowns' copied
+    // from the iterate at each fit. In the unknowns' order, which follows
+    // the surface (row_order.hpp), the rows' reads stay near each other.
+    std::vector<std::uint32_t> fixed_vertices_;
+    UnzeroedPooledVector<glm::dvec3> local_;
     PooledVector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
     PooledVector<glm::dquat> fitted_;  // per dual row: the last fit
     std::vector<double> deferred_;     // the second half's shares in a two-thread fit
     // A patch's rows at vertex `vertex`: H_pv = Σ_{f ∈ patch} G_f,slot(v)
     // (build's comment).
     struct PatchPull {
-        std::uint32_t vertex;
-        std::uint32_t unknown;  // no_index: a fixed vertex
+        std::uint32_t vertex;  // in the local step's numbering: an unknown below their count
         glm::dvec3 pulled;
     };
     // A patch's share of a cluster's rotation: θ κ_pc.

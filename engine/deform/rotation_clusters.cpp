@@ -147,4 +147,10 @@ void RotationClusters::build(std::span<const std::array<std::uint32_t, 3>> ring,
     cluster_count_ = seeds.size();
 }
 
+void RotationClusters::reorder_rows(std::span<const std::uint32_t> old_row_of) {
+    std::vector<std::uint32_t> patch_of(old_row_of.size());
+    for (std::size_t r = 0; r < old_row_of.size(); ++r) patch_of[r] = patch_of_[old_row_of[r]];
+    patch_of_ = std::move(patch_of);
+}
+
 }  // namespace dfm::deform

@@ -162,7 +162,7 @@ TEST_CASE("cow: the normal matrix is AᵀA + w²H + εI, each entry summed in A'
     deform::SystemRows rows = deform::collect_rows(model, unknowns);
     const std::size_t dual_rows = rows.size();
     deform::RotationFrames frames;
-    frames.build(model, unknowns, rows);
+    frames.build(model, unknowns, rows, deform::coarse_clusters(model, rows));
     // The pattern the factor's analysis starts from, before any value.
     const solver::CsrMatrix pattern = deform::normal_pattern(rows, unknowns.count());
     append_rigidity_rows(model, unknowns, deform::balanced_rigidity_weight(unknowns.count()), rows);
