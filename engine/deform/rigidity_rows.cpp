@@ -170,6 +170,20 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
     }
     fixed_.resize(merged);
     local_.resize(unknown_count + fixed_vertices_.size());
+
+    // A two-thread fit's halves (fit_and_add): the second half's slots at
+    // unknowns the first half names.
+    half_ = dual_rows / 2 - dual_rows / 2 % fit_lanes::width;
+    shared_below_ = 0;
+    for (std::size_t r = 0; r < half_; ++r) {
+        for (const std::uint32_t u : stencils_[r].unknown)
+            if (u != mesh::no_index) shared_below_ = std::max(shared_below_, u + 1);
+    }
+    shared_unknowns_.clear();
+    for (std::size_t r = half_; r < dual_rows; ++r) {
+        for (const std::uint32_t u : stencils_[r].unknown)
+            if (u < shared_below_) shared_unknowns_.push_back(u);
+    }
     kept_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
     fitted_ = kept_;
 
@@ -184,13 +198,6 @@ std::size_t RotationFrames::rigidity_rows() const {
 
 namespace {
 
-// Per stencil of a deferred pass: its own share R_f G_i by slot and
-// coordinate, then the row's energy.
-constexpr std::size_t deferred_stride = 3 * slots + 1;
-
-// How many rows ahead a two-thread fit's merge fetches what it adds to.
-constexpr std::size_t merge_ahead = 8;
-
 struct FitPass {
     std::span<const RigidityStencil> stencils;
     std::span<const glm::dquat> kept;
@@ -203,9 +210,12 @@ struct FitPass {
     int steps;
     std::span<double> rhs;
     // Null: each row adds its share to rhs and the pass returns the energy.
-    // Otherwise each row's share and energy are kept here (deferred_stride
-    // doubles a row), for the caller to add in order.
-    double* deferred = nullptr;
+    // Otherwise a row keeps its energy here, and its share at an unknown
+    // below `shared_below` in `shares`, 3 doubles after the last, for the
+    // caller to add in order; it adds its other shares itself.
+    double* energies = nullptr;
+    std::uint32_t shared_below = 0;
+    double* shares = nullptr;
 };
 
 // Two doubles, the width every x86-64 processor has: the slots go three
@@ -274,11 +284,12 @@ using SlotLanes = std::array<Doubles2, lanes>;
 }
 
 // Adds dual row r's own share of Aᵀ t, its own rotation's share of its
-// target rotation times G_i, to the right-hand side; returns its energy but
-// for the clusters' alignment (fit_and_add's).
+// target rotation times G_i, to the right-hand side (or keeps it at
+// `shares`, FitPass's); returns its energy but for the clusters' alignment
+// (fit_and_add's).
 [[gnu::always_inline]] inline double finish_row(const FitPass& pass, std::size_t r,
                                                 std::size_t lane, const fit_lanes::Mat3& rotation,
-                                                double alignment, double rows2) {
+                                                double alignment, double rows2, double*& shares) {
     const RigidityStencil& s = pass.stencils[r];
     const double own = pass.heaviest[r] == mesh::no_index ? 1.0 : 1.0 - coarse_share;
     std::array<SlotLanes, 3> pull;  // own R_f G_i by coordinate
@@ -292,19 +303,21 @@ using SlotLanes = std::array<Doubles2, lanes>;
         }
     }
     const double energy = rows2 - 2.0 * own * alignment + s.rest_dual2 + s.pair_target2;
-    if (pass.deferred != nullptr) {
-        double* share = pass.deferred + r * deferred_stride;
-        for (std::size_t i = 0; i < slots; ++i)
-            for (std::size_t x = 0; x < 3; ++x) share[3 * i + x] = pull[x][i / 2][i % 2];
-        share[3 * slots] = energy;
-        return 0.0;
-    }
     for (std::size_t i = 0; i < slots; ++i) {
         if (s.unknown[i] == mesh::no_index) continue;
+        if (s.unknown[i] < pass.shared_below) {
+            for (std::size_t x = 0; x < 3; ++x) shares[x] = pull[x][i / 2][i % 2];
+            shares += 3;
+            continue;
+        }
         double* out = &pass.rhs[3 * s.unknown[i]];
         out[0] += pull[0][i / 2][i % 2];
         out[1] += pull[1][i / 2][i % 2];
         out[2] += pull[2][i / 2][i % 2];
+    }
+    if (pass.energies != nullptr) {
+        pass.energies[r] = energy;
+        return 0.0;
     }
     return energy;
 }
@@ -315,6 +328,7 @@ using SlotLanes = std::array<Doubles2, lanes>;
 [[gnu::always_inline]] inline double fit_rows_body(const FitPass& pass) {
     constexpr std::size_t width = fit_lanes::width;
     double energy = 0.0;
+    double* shares = pass.shares;
     const std::size_t count = pass.stencils.size();
     for (std::size_t first = 0; first < count; first += width) {
         const std::size_t used = std::min(width, count - first);
@@ -375,7 +389,7 @@ using SlotLanes = std::array<Doubles2, lanes>;
         for (std::size_t lane = 0; lane < used; ++lane) {
             const std::size_t r = first + lane;
             pass.fitted[r] = glm::dquat(q.w[lane], q.x[lane], q.y[lane], q.z[lane]);
-            energy += finish_row(pass, r, lane, rotation, alignment[lane], rows2[lane]);
+            energy += finish_row(pass, r, lane, rotation, alignment[lane], rows2[lane], shares);
         }
     }
     return energy;
@@ -430,12 +444,13 @@ double RotationFrames::fit_and_add(std::span<const double> x,
     if (pool == nullptr || pool->thread_count() < 2 || count < jobs::parallel_minimum) {
         energy = fit_rows(whole);
     } else {
-        // Two halves side by side: the first adds to rhs as it goes, the
-        // second keeps its rows' shares and energies, which are then added
-        // after the first half's, row by row in order: the sums of the
-        // one-thread pass, bit for bit.
-        const std::size_t half = count / 2 - count / 2 % fit_lanes::width;
-        const auto part = [&](std::size_t begin, std::size_t end, double* deferred) {
+        // Two halves side by side. The first half adds only below
+        // shared_below_ and adds as it goes; above it only the second half
+        // adds, which it does as it goes too, and below it the second half
+        // keeps its shares, which are then added after the first half's, as
+        // are its energies, in order: the sums of the one-thread pass, bit
+        // for bit.
+        const auto part = [&](std::size_t begin, std::size_t end) {
             return FitPass{std::span(stencils_).subspan(begin, end - begin),
                            std::span(kept_).subspan(begin, end - begin),
                            std::span(fitted_).subspan(begin, end - begin),
@@ -443,46 +458,28 @@ double RotationFrames::fit_and_add(std::span<const double> x,
                            cluster_fitted_,
                            local,
                            steps,
-                           rhs,
-                           deferred};
+                           rhs};
         };
-        deferred_.resize((count - half) * deferred_stride);
+        shared_shares_.resize(3 * shared_unknowns_.size());
+        second_energies_.resize(count - half_);
         pool->run(2, [&](std::size_t task) {
             if (task == 0) {
-                energy = fit_rows(part(0, half, nullptr));
+                energy = fit_rows(part(0, half_));
             } else {
-                fit_rows(part(half, count, deferred_.data()));
+                FitPass second = part(half_, count);
+                second.energies = second_energies_.data();
+                second.shared_below = shared_below_;
+                second.shares = shared_shares_.data();
+                fit_rows(second);
             }
         });
-        // The second half's shares, added by both threads, each at its
-        // half of the unknowns (and the energies by the first): every sum
-        // still takes the rows in order. A row's stencil and the unknowns it
-        // adds to are fetched merge_ahead rows ahead; the adds wait on them
-        // otherwise.
-        const auto split = static_cast<std::uint32_t>(unknowns / 2);
-        pool->run(2, [&](std::size_t task) {
-            const std::uint32_t lo = task == 0 ? 0 : split;
-            const auto hi = task == 0 ? split : static_cast<std::uint32_t>(unknowns);
-            for (std::size_t r = half; r < count; ++r) {
-                if (r + 2 * merge_ahead < count)
-                    __builtin_prefetch(&stencils_[r + 2 * merge_ahead]);
-                if (r + merge_ahead < count) {
-                    for (const std::uint32_t u : stencils_[r + merge_ahead].unknown)
-                        if (u >= lo && u < hi) __builtin_prefetch(&rhs[3 * u], 1);
-                }
-                const RigidityStencil& s = stencils_[r];
-                const double* share = &deferred_[(r - half) * deferred_stride];
-                for (std::size_t i = 0; i < slots; ++i) {
-                    const std::uint32_t u = s.unknown[i];
-                    if (u < lo || u >= hi) continue;
-                    double* out = &rhs[3 * u];
-                    out[0] += share[3 * i];
-                    out[1] += share[3 * i + 1];
-                    out[2] += share[3 * i + 2];
-                }
-                if (task == 0) energy += share[3 * slots];
-            }
-        });
+        for (std::size_t k = 0; k < shared_unknowns_.size(); ++k) {
+            double* out = &rhs[3 * shared_unknowns_[k]];
+            out[0] += shared_shares_[3 * k];
+            out[1] += shared_shares_[3 * k + 1];
+            out[2] += shared_shares_[3 * k + 2];
+        }
+        for (const double e : second_energies_) energy += e;
     }
 
     add_cluster_shares(rhs);

@@ -129,7 +129,8 @@ public:
     std::size_t dual_rows() const { return stencils_.size(); }
     std::size_t rigidity_rows() const;
     std::size_t memory_bytes() const {
-        return capacity_bytes(stencils_, fixed_, fixed_vertices_, local_, kept_, fitted_, deferred_, heaviest_,
+        return capacity_bytes(stencils_, fixed_, fixed_vertices_, local_, kept_, fitted_, shared_unknowns_,
+                              shared_shares_, second_energies_, heaviest_,
                               patch_offsets_, patch_pulls_, member_offsets_, members_,
                               cluster_kept_, cluster_fitted_, cluster_rotations_, cluster_sums_);
     }
@@ -160,7 +161,15 @@ private:
     UnzeroedPooledVector<glm::dvec3> local_;
     PooledVector<glm::dquat> kept_;    // per dual row: the fit the next one starts from
     PooledVector<glm::dquat> fitted_;  // per dual row: the last fit
-    std::vector<double> deferred_;     // the second half's shares in a two-thread fit
+    // A two-thread fit (fit_and_add): the second half's first row; one
+    // past the largest unknown the first half names; the unknown of each
+    // of the second half's slots below that, in order, and the shares a
+    // fit keeps for them; the second half's energies.
+    std::size_t half_ = 0;
+    std::uint32_t shared_below_ = 0;
+    std::vector<std::uint32_t> shared_unknowns_;
+    std::vector<double> shared_shares_;
+    std::vector<double> second_energies_;
     // A patch's rows at vertex `vertex`: H_pv = Σ_{f ∈ patch} G_f,slot(v)
     // (build's comment).
     struct PatchPull {
