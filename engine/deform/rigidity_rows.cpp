@@ -38,6 +38,12 @@ std::uint32_t opposite_vertex(const mesh::Triangle& t, const mesh::Triangle& oth
 // (docs/method.md).
 constexpr double relative_edge_weight = 0.2;
 
+// In the surface's order (row_order.hpp) the rows' faces lie anywhere in
+// the mesh's arrays: the set-up fetches a row's face 2 · build_ahead rows
+// before it makes the row's stencil, and its neighbours' corners and its
+// own corners' positions build_ahead rows before.
+constexpr std::size_t build_ahead = 8;
+
 }  // namespace
 
 double balanced_rigidity_weight(std::size_t unknowns) {
@@ -80,6 +86,19 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
     stencils_.reserve(dual_rows);
     fixed_.clear();
     for (std::size_t r = 0; r < dual_rows; ++r) {
+        if (r + 2 * build_ahead < dual_rows) {
+            const std::uint32_t later = rows.faces[r + 2 * build_ahead];
+            __builtin_prefetch(&mesh.triangles[later]);
+            __builtin_prefetch(&model.dual.neighbors[later]);
+            __builtin_prefetch(&model.dual.weights[later]);
+        }
+        if (r + build_ahead < dual_rows) {
+            const std::uint32_t next = rows.faces[r + build_ahead];
+            for (const std::uint32_t j : model.dual.neighbors[next])
+                if (j != mesh::no_index) __builtin_prefetch(&mesh.triangles[j]);
+            for (const std::uint32_t v : mesh.triangles[next])
+                __builtin_prefetch(&mesh.positions[v]);
+        }
         RigidityStencil s;
         const std::uint32_t f = rows.faces[r];
         const mesh::Triangle& t = mesh.triangles[f];
@@ -419,9 +438,8 @@ double fit_rows(const FitPass& pass) {
 
 }  // namespace
 
-double RotationFrames::fit_and_add(std::span<const double> x,
-                                   std::span<const glm::dvec3> positions, int steps,
-                                   std::span<double> rhs, jobs::WorkerPool* pool) {
+double RotationFrames::fit_and_add(std::span<const double> x, std::span<const glm::dvec3> positions,
+                                   int steps, std::span<double> rhs, jobs::WorkerPool* pool) {
     const std::size_t unknowns = local_.size() - fixed_vertices_.size();
     std::memcpy(local_.data(), x.data(), unknowns * sizeof(glm::dvec3));
     for (std::size_t k = 0; k < fixed_vertices_.size(); ++k)

@@ -43,7 +43,7 @@ struct RigidityStencil {
     // What the assembly of N reads comes first and together (unknown to
     // pair_count), so that each of a stencil's several reads there, out of
     // order, takes as few cache lines as the fields allow.
-    std::array<std::uint32_t, slots> vertex{};  // in the local step's numbering
+    std::array<std::uint32_t, slots> vertex{};   // in the local step's numbering
     std::array<std::uint32_t, slots> unknown{};  // no_index: fixed, or unused
     std::array<double, slots> dual{};            // the dual row's coefficients
     std::array<double, pairs> pair_weight2{};    // (w s)²: A_k p = w s (v_c − v_d)
@@ -116,8 +116,8 @@ public:
     // never raises the energy over the kept rotations.
     // With `pool` (optional) of two threads or more, a large ROI's rows are
     // fitted in two halves side by side, with the same bits.
-    double fit_and_add(std::span<const double> x, std::span<const glm::dvec3> positions,
-                       int steps, std::span<double> rhs, jobs::WorkerPool* pool = nullptr);
+    double fit_and_add(std::span<const double> x, std::span<const glm::dvec3> positions, int steps,
+                       std::span<double> rhs, jobs::WorkerPool* pool = nullptr);
 
     // Makes the last fit the next one's starting point. A refused trial step
     // is not kept: the next fit starts again from the rotations before it.
@@ -129,8 +129,8 @@ public:
     std::size_t dual_rows() const { return stencils_.size(); }
     std::size_t rigidity_rows() const;
     std::size_t memory_bytes() const {
-        return capacity_bytes(stencils_, fixed_, fixed_vertices_, local_, kept_, fitted_, shared_unknowns_,
-                              shared_shares_, second_energies_, heaviest_,
+        return capacity_bytes(stencils_, fixed_, fixed_vertices_, local_, kept_, fitted_,
+                              shared_unknowns_, shared_shares_, second_energies_, heaviest_,
                               patch_offsets_, patch_pulls_, member_offsets_, members_,
                               cluster_kept_, cluster_fitted_, cluster_rotations_, cluster_sums_);
     }
