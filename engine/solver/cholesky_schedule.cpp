@@ -6,14 +6,15 @@
 
 namespace dfm::solver {
 
-CholeskySchedule make_cholesky_schedule(const CholeskySymbolic& sym, std::size_t threads) {
+CholeskySchedule make_cholesky_schedule(const CholeskySymbolic& sym, std::span<const double> weight,
+                                        std::size_t threads) {
     const std::size_t s_count = sym.supernode_count();
-    std::vector<double> subtree_work(sym.work.begin(), sym.work.end());
+    std::vector<double> subtree_work(weight.begin(), weight.end());
     std::vector<std::vector<std::uint32_t>> children(s_count);
     std::vector<std::uint32_t> roots;
     double total = 0.0;
     for (std::uint32_t s = 0; s < s_count; ++s) {
-        total += sym.work[s];
+        total += weight[s];
         if (sym.parent[s] == no_parent) {
             roots.push_back(s);
         } else {
@@ -52,6 +53,13 @@ CholeskySchedule make_cholesky_schedule(const CholeskySymbolic& sym, std::size_t
     }
     for (auto& list : schedule.subtrees) std::sort(list.begin(), list.end());
     return schedule;
+}
+
+std::vector<double> solve_weights(const CholeskySymbolic& sym) {
+    std::vector<double> weight(sym.supernode_count());
+    for (std::size_t s = 0; s < weight.size(); ++s)
+        weight[s] = static_cast<double>(sym.value_begin[s + 1] - sym.value_begin[s]);
+    return weight;
 }
 
 }  // namespace dfm::solver

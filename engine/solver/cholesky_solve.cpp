@@ -99,7 +99,7 @@ void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::
     }
     const std::size_t threads = pool != nullptr ? pool->thread_count() : 1;
     const bool split = threads > 1 && n >= jobs::parallel_minimum &&
-                       schedule_.subtrees.size() == threads &&
+                       solve_schedule_.subtrees.size() == threads &&
                        work.size() >= solve_work_size(k, threads);
     if (split) {
         // Each subtree on one thread, pushing updates only inside itself;
@@ -107,20 +107,20 @@ void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::
         // top first, then the subtrees.
         pool->run(threads, [&](std::size_t t) {
             double* mine = below + t * supernode::scratch_size(sym.max_rows, k);
-            for (const std::uint32_t root : schedule_.subtrees[t])
+            for (const std::uint32_t root : solve_schedule_.subtrees[t])
                 for (std::uint32_t s = sym.subtree_begin[root]; s <= root; ++s)
                     forward_supernode(sym, values_, s, y, k, mine, sym.column_begin[root + 1]);
         });
-        for (const std::uint32_t s : schedule_.top) {
+        for (const std::uint32_t s : solve_schedule_.top) {
             pull_updates(sym, values_, s, y, k, below);
             forward_supernode(sym, values_, s, y, k, below, 0);
         }
-        for (std::size_t p = schedule_.top.size(); p-- > 0;)
-            backward_supernode(sym, values_, schedule_.top[p], y, k, below,
-                               p > 0 ? schedule_.top[p - 1] : no_next);
+        for (std::size_t p = solve_schedule_.top.size(); p-- > 0;)
+            backward_supernode(sym, values_, solve_schedule_.top[p], y, k, below,
+                               p > 0 ? solve_schedule_.top[p - 1] : no_next);
         pool->run(threads, [&](std::size_t t) {
             double* mine = below + t * supernode::scratch_size(sym.max_rows, k);
-            for (const std::uint32_t root : schedule_.subtrees[t])
+            for (const std::uint32_t root : solve_schedule_.subtrees[t])
                 backward_in_order(sym, values_, sym.backward_position[root],
                                   root - sym.subtree_begin[root] + 1, y, k, mine);
         });

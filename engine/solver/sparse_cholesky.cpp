@@ -308,9 +308,12 @@ std::size_t SparseCholesky::memory_bytes() const {
                        s.value_begin, s.update_begin, s.updates, s.entry_begin, s.entry_source,
                        s.entry_target, s.subtree_begin, s.backward_order, s.backward_position,
                        s.work, s.pattern_row_offsets, s.pattern_col_indices);
-    bytes += capacity_bytes(schedule_.subtrees, schedule_.top, values_);
-    for (const std::vector<std::uint32_t>& roots : schedule_.subtrees)
-        bytes += capacity_bytes(roots);
+    bytes += capacity_bytes(values_);
+    for (const CholeskySchedule* schedule : {&schedule_, &solve_schedule_}) {
+        bytes += capacity_bytes(schedule->subtrees, schedule->top);
+        for (const std::vector<std::uint32_t>& roots : schedule->subtrees)
+            bytes += capacity_bytes(roots);
+    }
     return bytes;
 }
 
@@ -319,6 +322,7 @@ Status SparseCholesky::analyze(const CsrMatrix& a, OrderingMethod method) {
     stopped_ = false;
     values_.clear();
     schedule_ = CholeskySchedule{};
+    solve_schedule_ = CholeskySchedule{};
     times_ = CholeskyTimes{};
     const auto start = std::chrono::steady_clock::now();
     // Checked once here: the ordering's graph and the analysis then take
@@ -343,6 +347,7 @@ Status SparseCholesky::analyze(const CsrMatrix& a, std::span<const std::uint32_t
     stopped_ = false;
     values_.clear();
     schedule_ = CholeskySchedule{};
+    solve_schedule_ = CholeskySchedule{};
     times_ = CholeskyTimes{};
     const auto start = std::chrono::steady_clock::now();
     Status st = analyze_cholesky(a, perm, symbolic_);
@@ -379,8 +384,10 @@ Status SparseCholesky::factorize(const CsrMatrix& a, jobs::WorkerPool* pool) {
         if (threads == 1) {
             factor_in_order(sym, a.values, values_, scratch[0], failure, stop_);
         } else {
-            if (schedule_.subtrees.size() != threads)
-                schedule_ = make_cholesky_schedule(sym, threads);
+            if (schedule_.subtrees.size() != threads) {
+                schedule_ = make_cholesky_schedule(sym, sym.work, threads);
+                solve_schedule_ = make_cholesky_schedule(sym, solve_weights(sym), threads);
+            }
             factor_subtrees(sym, schedule_, a.values, values_, scratch, *pool, failure, stop_);
             factor_top(sym, schedule_, a.values, values_, scratch, *pool, failure, stop_);
         }

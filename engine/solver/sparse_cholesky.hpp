@@ -99,7 +99,10 @@ public:
 
 private:
     CholeskySymbolic symbolic_;
-    CholeskySchedule schedule_;            // for the thread count of the last factorize
+    // For the thread count of the last factorize: the factorization's, and
+    // the solves'.
+    CholeskySchedule schedule_;
+    CholeskySchedule solve_schedule_;
     UnzeroedPooledVector<double> values_;  // every block written by the factorization
     CholeskyTimes times_;
     const std::atomic<bool>* stop_ = nullptr;

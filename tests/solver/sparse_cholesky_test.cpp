@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "jobs/scheduler.hpp"
+#include "solver/cholesky_schedule.hpp"
 #include "solver/elimination_tree.hpp"
 #include "solver/sparse_cholesky.hpp"
 #include "solver/test_matrices.hpp"
@@ -258,6 +259,45 @@ TEST_CASE("solver: Cholesky factor and solve are bit-identical with 1, 2 and 3 t
         CHECK(failed.message().find("row 1234 ") != std::string::npos);
     }
     for (const std::vector<double>& x : solutions) CHECK(x == solutions[0]);
+}
+
+TEST_CASE("solver: a schedule covers every supernode once and splits the heavy subtrees") {
+    // Weighed by work (the factorization's) and by stored values (the
+    // solves'): every supernode in one thread's subtrees or in the top, a
+    // subtree whole, none heavier than a quarter of the whole but a single
+    // supernode, and the top's supernodes ascending.
+    const CsrMatrix a = dfm::test::normal_product(dfm::test::grid_laplacian(70, 60), 1e-6);
+    SparseCholesky chol;
+    REQUIRE(chol.analyze(a, OrderingMethod::minimum_degree).is_ok());
+    const CholeskySymbolic& sym = chol.symbolic();
+    const std::vector<double> values = solve_weights(sym);
+    double stored = 0.0;
+    for (const double v : values) stored += v;
+    CHECK(stored == static_cast<double>(sym.stored_values));
+    const std::vector<double> work(sym.work.begin(), sym.work.end());
+    for (const std::vector<double>* weight : {&work, &values}) {
+        const CholeskySchedule schedule = make_cholesky_schedule(sym, *weight, 2);
+        REQUIRE(schedule.subtrees.size() == 2);
+        double total = 0.0;
+        for (const double w : *weight) total += w;
+        std::vector<int> owners(sym.supernode_count(), 0);
+        for (const std::vector<std::uint32_t>& roots : schedule.subtrees) {
+            for (const std::uint32_t root : roots) {
+                double subtree = 0.0;
+                for (std::uint32_t s = sym.subtree_begin[root]; s <= root; ++s) {
+                    ++owners[s];
+                    subtree += (*weight)[s];
+                }
+                CHECK((subtree <= total / 4.0 || sym.subtree_begin[root] == root));
+            }
+        }
+        for (std::size_t p = 0; p < schedule.top.size(); ++p) {
+            ++owners[schedule.top[p]];
+            if (p > 0) CHECK(schedule.top[p - 1] < schedule.top[p]);
+        }
+        for (const int owner : owners) CHECK(owner == 1);
+        CHECK(!schedule.top.empty());
+    }
 }
 
 TEST_CASE("solver: a raised stop flag ends analyze and factorize, a lowered one changes nothing") {
