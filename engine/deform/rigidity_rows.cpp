@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include <glm/geometric.hpp>
@@ -341,6 +342,29 @@ using SlotLanes = std::array<Doubles2, lanes>;
     return energy;
 }
 
+// The kept rotations of four rows, one lane each: each quaternion loaded
+// whole and the four turned into vectors by component. Set lane by lane,
+// through memory, each vector's load waited on the four stores it spans.
+[[gnu::always_inline]] inline fit_lanes::Quat kept_lanes(
+    std::span<const glm::dquat> kept, const std::array<std::size_t, fit_lanes::width>& row) {
+    static_assert(fit_lanes::width == 4 && sizeof(glm::dquat) == sizeof(fit_lanes::Quad) &&
+                  offsetof(glm::dquat, x) == 0 && offsetof(glm::dquat, y) == 8 &&
+                  offsetof(glm::dquat, z) == 16 && offsetof(glm::dquat, w) == 24);
+    fit_lanes::Quad k[fit_lanes::width];
+    for (std::size_t lane = 0; lane < fit_lanes::width; ++lane)
+        std::memcpy(&k[lane], &kept[row[lane]], sizeof(fit_lanes::Quad));
+    const fit_lanes::Quad xz01 = __builtin_shufflevector(k[0], k[1], 0, 4, 2, 6);
+    const fit_lanes::Quad yw01 = __builtin_shufflevector(k[0], k[1], 1, 5, 3, 7);
+    const fit_lanes::Quad xz23 = __builtin_shufflevector(k[2], k[3], 0, 4, 2, 6);
+    const fit_lanes::Quad yw23 = __builtin_shufflevector(k[2], k[3], 1, 5, 3, 7);
+    fit_lanes::Quat q;
+    q.x = __builtin_shufflevector(xz01, xz23, 0, 1, 4, 5);
+    q.z = __builtin_shufflevector(xz01, xz23, 2, 3, 6, 7);
+    q.y = __builtin_shufflevector(yw01, yw23, 0, 1, 4, 5);
+    q.w = __builtin_shufflevector(yw01, yw23, 2, 3, 6, 7);
+    return q;
+}
+
 // Four dual rows at a time, their rotations fitted side by side in the
 // lanes of one vector (rotation_fit_lanes.hpp); the right-hand side and
 // the energy still take the rows one by one, in order.
@@ -365,19 +389,15 @@ using SlotLanes = std::array<Doubles2, lanes>;
                     __builtin_prefetch(&pass.positions[v]);
         }
         fit_lanes::Mat3 covariance;
-        fit_lanes::Quat q;
         std::array<double, width> rows2;
+        // Past the last row, a lane repeats the first: its result is
+        // dropped, and it stops when that row's fit does.
+        std::array<std::size_t, width> row;
         for (std::size_t lane = 0; lane < width; ++lane) {
-            // Past the last row, a lane repeats the first: its result is
-            // dropped, and it stops when that row's fit does.
-            const std::size_t r = first + (lane < used ? lane : 0);
-            rows2[lane] = prepare_row(pass, r, lane, covariance);
-            const glm::dquat& kept = pass.kept[r];
-            q.w[lane] = kept.w;
-            q.x[lane] = kept.x;
-            q.y[lane] = kept.y;
-            q.z[lane] = kept.z;
+            row[lane] = first + (lane < used ? lane : 0);
+            rows2[lane] = prepare_row(pass, row[lane], lane, covariance);
         }
+        fit_lanes::Quat q = kept_lanes(pass.kept, row);
         if (pass.steps > 1) {
             // A solve's first fit may start far from the answer, and a row
             // fitted alone from there can stop at a saddle of its alignment,
