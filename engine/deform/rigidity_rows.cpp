@@ -226,7 +226,7 @@ struct FitPass {
     // whose own rotation takes its whole target.
     std::span<const std::uint32_t> heaviest;
     std::span<const glm::dquat> cluster_rotations;  // the clusters' fits, as quaternions
-    std::span<const glm::dvec3> positions;
+    std::span<const glm::dvec3> positions;          // in the local step's numbering
     int steps;
     std::span<double> rhs;
     // Null: each row adds its share to rhs and the pass returns the energy.
@@ -375,8 +375,8 @@ using SlotLanes = std::array<Doubles2, lanes>;
     const std::size_t count = pass.stencils.size();
     for (std::size_t first = 0; first < count; first += width) {
         const std::size_t used = std::min(width, count - first);
-        // The stencils stream in order, the positions they name do not:
-        // the rows two groups ahead are fetched, and the positions of
+        // The stencils stream in order, the positions they name only near
+        // it: the rows two groups ahead are fetched, and the positions of
         // those one group ahead.
         if (first + 3 * width <= count) {
             const auto* ahead = reinterpret_cast<const char*>(&pass.stencils[first + 2 * width]);
