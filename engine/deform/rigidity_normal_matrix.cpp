@@ -31,21 +31,26 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
     std::size_t unknown_count, std::span<const std::uint32_t> soft_handles, double handle_weight,
     double relative_epsilon, double& epsilon, const std::atomic<bool>* stop) const {
     constexpr std::size_t slots = RigidityStencil::slots;
+    const auto unknowns = static_cast<std::uint32_t>(unknown_count);
+    const auto unknown_of = [unknowns](const RigidityStencil& s, std::size_t i) {
+        return slot_unknown(s, i, unknowns);
+    };
     std::vector<std::uint32_t> offsets(unknown_count + 1, 0);
     std::vector<double> squares(unknown_count, 0.0);
     for (const RigidityStencil& s : stencils_) {
         for (std::size_t i = 0; i < slots; ++i) {
-            if (s.unknown[i] == mesh::no_index) continue;
-            ++offsets[s.unknown[i] + 1];
-            squares[s.unknown[i]] += s.dual[i] * s.dual[i];
+            const std::uint32_t u = unknown_of(s, i);
+            if (u == mesh::no_index) continue;
+            ++offsets[u + 1];
+            squares[u] += s.dual[i] * s.dual[i];
         }
     }
     // A rigidity row's entries are ±w s: either squared is its weight².
     for (const RigidityStencil& s : stencils_) {
         for (std::size_t k = 0; k < s.pair_count; ++k) {
             for (const std::uint8_t slot : s.pair_slot[k]) {
-                if (s.unknown[slot] != mesh::no_index)
-                    squares[s.unknown[slot]] += s.pair_weight2[k];
+                const std::uint32_t u = unknown_of(s, slot);
+                if (u != mesh::no_index) squares[u] += s.pair_weight2[k];
             }
         }
     }
@@ -59,7 +64,8 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
         for (std::uint32_t r = 0; r < stencils_.size(); ++r) {
             const RigidityStencil& s = stencils_[r];
             for (std::uint32_t i = 0; i < slots; ++i) {
-                if (s.unknown[i] != mesh::no_index) uses[fill[s.unknown[i]]++] = {r, i};
+                const std::uint32_t u = unknown_of(s, i);
+                if (u != mesh::no_index) uses[fill[u]++] = {r, i};
             }
         }
     }
@@ -68,8 +74,8 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
         for (std::uint32_t q = offsets[i]; q < offsets[i + 1]; ++q) {
             if (q + prefetch_distance < uses.size()) {
                 const RigidityStencil& ahead = stencils_[uses[q + prefetch_distance].stencil];
-                const auto* last = reinterpret_cast<const char*>(&ahead.pair_count);
-                for (const auto* at = reinterpret_cast<const char*>(&ahead.unknown); at < last;
+                const auto* last = reinterpret_cast<const char*>(&ahead.slot_count);
+                for (const auto* at = reinterpret_cast<const char*>(&ahead.vertex); at < last;
                      at += 64)
                     __builtin_prefetch(at);
                 __builtin_prefetch(last);
@@ -77,7 +83,8 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
             const RigidityStencil& s = stencils_[uses[q].stencil];
             const double a = s.dual[uses[q].slot];
             for (std::size_t j = 0; j < slots; ++j) {
-                if (s.unknown[j] != mesh::no_index) n.add(s.unknown[j], a * s.dual[j]);
+                const std::uint32_t u = unknown_of(s, j);
+                if (u != mesh::no_index) n.add(u, a * s.dual[j]);
             }
         }
         // Row k's entries are +w s at v_c and −w s at v_d: their products
@@ -97,8 +104,10 @@ solver::CsrMatrix RotationFrames::assemble_normal_matrix(
                 const std::uint8_t c = s.pair_slot[k][0];
                 const std::uint8_t d = s.pair_slot[k][1];
                 const double w2 = s.pair_weight2[k];
-                if (s.unknown[c] != mesh::no_index) n.add(s.unknown[c], slot == c ? w2 : -w2);
-                if (s.unknown[d] != mesh::no_index) n.add(s.unknown[d], slot == d ? w2 : -w2);
+                const std::uint32_t uc = unknown_of(s, c);
+                const std::uint32_t ud = unknown_of(s, d);
+                if (uc != mesh::no_index) n.add(uc, slot == c ? w2 : -w2);
+                if (ud != mesh::no_index) n.add(ud, slot == d ? w2 : -w2);
             }
         }
     });

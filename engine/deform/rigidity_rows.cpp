@@ -82,7 +82,7 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
     };
 
     // Each stencil is made on the stack and written once: filling a
-    // zeroed array would write its 320 bytes twice.
+    // zeroed array would write its bytes twice.
     stencils_.clear();
     stencils_.reserve(dual_rows);
     fixed_.clear();
@@ -111,15 +111,12 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
         for (std::uint32_t p = rows.entry_offsets[r]; p < rows.entry_offsets[r + 1]; ++p) {
             const RowEntry& e = rows.entries[p];
             s.vertex[used] = local_of(e.vertex);
-            s.unknown[used] = e.unknown;
             s.dual[used] = e.coefficient;
             b[0][used] = e.coefficient;
             ++used;
         }
-        for (std::size_t i = used; i < slots; ++i) {
-            s.vertex[i] = s.vertex[0];
-            s.unknown[i] = mesh::no_index;
-        }
+        s.slot_count = static_cast<std::uint8_t>(used);
+        for (std::size_t i = used; i < slots; ++i) s.vertex[i] = s.vertex[0];
         // A rigidity row joins two vertices of f's dual 1-ring, which are
         // all in the dual row: w s (v_c − v_d), for its rest vector.
         auto slot_of = [&](std::uint32_t v) {
@@ -165,12 +162,13 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
                 s.g[x][i] = s.g[x][i] + s.dual[i] * rest_dual[x];
         }
         for (std::size_t i = 0; i < used; ++i) {
-            if (s.unknown[i] == mesh::no_index) continue;
+            const std::uint32_t u = slot_unknown(s, i, unknown_count);
+            if (u == mesh::no_index) continue;
             for (std::size_t j = 0; j < used; ++j) {
-                if (s.unknown[j] != mesh::no_index) continue;
+                if (slot_unknown(s, j, unknown_count) != mesh::no_index) continue;
                 double coupling = 0.0;
                 for (const auto& row : b) coupling += row[i] * row[j];
-                if (coupling != 0.0) fixed_.push_back({s.unknown[i], s.vertex[j], -coupling});
+                if (coupling != 0.0) fixed_.push_back({u, s.vertex[j], -coupling});
             }
         }
         stencils_.push_back(s);
@@ -196,13 +194,17 @@ void RotationFrames::build(const MeshModel& model, const UnknownMap& unknowns,
     half_ = dual_rows / 2 - dual_rows / 2 % fit_lanes::width;
     shared_below_ = 0;
     for (std::size_t r = 0; r < half_; ++r) {
-        for (const std::uint32_t u : stencils_[r].unknown)
+        for (std::size_t i = 0; i < slots; ++i) {
+            const std::uint32_t u = slot_unknown(stencils_[r], i, unknown_count);
             if (u != mesh::no_index) shared_below_ = std::max(shared_below_, u + 1);
+        }
     }
     shared_unknowns_.clear();
     for (std::size_t r = half_; r < dual_rows; ++r) {
-        for (const std::uint32_t u : stencils_[r].unknown)
+        for (std::size_t i = 0; i < slots; ++i) {
+            const std::uint32_t u = slot_unknown(stencils_[r], i, unknown_count);
             if (u < shared_below_) shared_unknowns_.push_back(u);
+        }
     }
     kept_.assign(dual_rows, glm::dquat(1.0, 0.0, 0.0, 0.0));
     fitted_ = kept_;
@@ -227,6 +229,7 @@ struct FitPass {
     std::span<const std::uint32_t> heaviest;
     std::span<const glm::dquat> cluster_rotations;  // the clusters' fits, as quaternions
     std::span<const glm::dvec3> positions;          // in the local step's numbering
+    std::uint32_t unknowns;                         // below it, a number is an unknown's
     int steps;
     std::span<double> rhs;
     // Null: each row adds its share to rhs and the pass returns the energy.
@@ -324,13 +327,14 @@ using SlotLanes = std::array<Doubles2, lanes>;
     }
     const double energy = rows2 - 2.0 * own * alignment + s.rest_dual2 + s.pair_target2;
     for (std::size_t i = 0; i < slots; ++i) {
-        if (s.unknown[i] == mesh::no_index) continue;
-        if (s.unknown[i] < pass.shared_below) {
+        const std::uint32_t u = slot_unknown(s, i, pass.unknowns);
+        if (u == mesh::no_index) continue;
+        if (u < pass.shared_below) {
             for (std::size_t x = 0; x < 3; ++x) shares[x] = pull[x][i / 2][i % 2];
             shares += 3;
             continue;
         }
-        double* out = &pass.rhs[3 * s.unknown[i]];
+        double* out = &pass.rhs[3 * u];
         out[0] += pull[0][i / 2][i % 2];
         out[1] += pull[1][i / 2][i % 2];
         out[2] += pull[2][i / 2][i % 2];
@@ -477,7 +481,9 @@ double RotationFrames::fit_and_add(std::span<const double> x, std::span<const gl
     // cluster's rotation where that aligns it better.
     const double cluster_alignment = fit_clusters(steps);
     const std::size_t count = stencils_.size();
-    const FitPass whole{stencils_, kept_, fitted_, heaviest_, cluster_fitted_, local, steps, rhs};
+    const auto unknown_count = static_cast<std::uint32_t>(unknowns);
+    const FitPass whole{stencils_, kept_,         fitted_, heaviest_, cluster_fitted_,
+                        local,     unknown_count, steps,   rhs};
     double energy = 0.0;
     if (pool == nullptr || pool->thread_count() < 2 || count < jobs::parallel_minimum) {
         energy = fit_rows(whole);
@@ -495,6 +501,7 @@ double RotationFrames::fit_and_add(std::span<const double> x, std::span<const gl
                            std::span(heaviest_).subspan(begin, end - begin),
                            cluster_fitted_,
                            local,
+                           unknown_count,
                            steps,
                            rhs};
         };

@@ -35,24 +35,31 @@ namespace dfm::deform {
 // coefficients. G_i is kept by coordinate so that its loops vectorise.
 // The slots' vertices are numbered as the local step reads them
 // (RotationFrames): an unknown by its number, the k-th fixed vertex the
-// rows reach as the unknowns' count plus k.
+// rows reach as the unknowns' count plus k; so a slot's number tells
+// whether it is an unknown (slot_unknown).
 struct RigidityStencil {
     static constexpr std::size_t slots = 6;  // a dual row's vertices: f's and the three opposite
     static constexpr std::size_t pairs = 6;  // rigidity rows per dual row: 3 dual, 3 face edges
 
-    // What the assembly of N reads comes first and together (unknown to
-    // pair_count), so that each of a stencil's several reads there, out of
+    // What the assembly of N reads comes first and together (vertex to
+    // slot_count), so that each of a stencil's several reads there, out of
     // order, takes as few cache lines as the fields allow.
-    std::array<std::uint32_t, slots> vertex{};   // in the local step's numbering
-    std::array<std::uint32_t, slots> unknown{};  // no_index: fixed, or unused
-    std::array<double, slots> dual{};            // the dual row's coefficients
-    std::array<double, pairs> pair_weight2{};    // (w s)²: A_k p = w s (v_c − v_d)
+    std::array<std::uint32_t, slots> vertex{};  // in the local step's numbering
+    std::array<double, slots> dual{};           // the dual row's coefficients
+    std::array<double, pairs> pair_weight2{};   // (w s)²: A_k p = w s (v_c − v_d)
     std::array<std::array<std::uint8_t, 2>, pairs> pair_slot{};  // the slots of v_c, v_d
     std::uint8_t pair_count = 0;                   // the rows in use, in their order in A
+    std::uint8_t slot_count = 0;                   // the slots in use, the first ones
     std::array<std::array<double, slots>, 3> g{};  // G_i, of the dual row and its rigidity rows
     double rest_dual2 = 0.0;                       // |l_f|² at rest
     double pair_target2 = 0.0;                     // Σ_k |g_k|² over the rigidity rows
 };
+
+// Slot i's unknown in a ROI of `unknowns` unknowns: its vertex's number, or
+// no_index for a fixed vertex and an unused slot.
+inline std::uint32_t slot_unknown(const RigidityStencil& s, std::size_t i, std::uint32_t unknowns) {
+    return i < s.slot_count && s.vertex[i] < unknowns ? s.vertex[i] : mesh::no_index;
+}
 
 // ROIs of more unknowns than this take a rigidity weight smaller by the
 // square root of the ratio. Under a strain, a dual Laplacian row's residual
