@@ -35,8 +35,8 @@ public:
     void build(std::span<const std::array<std::uint32_t, 3>> ring, std::size_t clusters,
                std::size_t patches);
 
-    // Renumbers the rows: row r becomes the row at old_row_of[r]'s place,
-    // old_row_of listing every old row once. The patches and clusters stay.
+    // Renumbers the rows: new row r is old row old_row_of[r], every old row
+    // listed once. The patches and clusters stay.
     void reorder_rows(std::span<const std::uint32_t> old_row_of);
 
     std::size_t size() const { return cluster_count_; }
