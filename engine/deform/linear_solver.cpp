@@ -48,15 +48,10 @@ constexpr double residual_check_margin = 16.0;
 bool LinearSolver::State::confirmed_by_residual(std::span<const double> rhs,
                                                 std::span<const double> x, double tolerance) {
     constexpr std::size_t k = 3;
-    const std::size_t n = matrix.rows;
-    solver::kernels::multiply(matrix, x, residual, k, pool);
-    for (std::size_t i = 0; i < n * k; ++i) residual[i] = rhs[i] - residual[i];
-    solver::kernels::max_abs(residual, n, k, largest, partial, pool);
+    solver::kernels::residual(matrix, rhs, x, residual, k, largest, residual2, rhs2, partial, pool);
     for (std::size_t c = 0; c < k; ++c) {
         if (!(amplification * largest[c] * residual_check_margin <= tolerance)) return false;
     }
-    solver::kernels::dot(residual, residual, n, k, residual2, partial, pool);
-    solver::kernels::dot(rhs, rhs, n, k, rhs2, partial, pool);
     result.iterations = 0;
     result.converged = true;
     for (std::size_t c = 0; c < k; ++c) {
@@ -103,7 +98,7 @@ Status LinearSolver::setup(solver::CsrMatrix matrix, solver::PreconditionerKind 
     state->workspace = solver::PbcgWorkspace(state->matrix.rows, 3);
     state->result.columns.resize(3);
     state->residual.assign(state->matrix.rows * 3, 0.0);
-    state->partial.assign(solver::kernels::block_count(state->matrix.rows) * 3, 0.0);
+    state->partial.assign(solver::kernels::block_count(state->matrix.rows) * 3 * 3, 0.0);
     state->exact = state->preconditioner->is_exact();
     if (auto* cholesky = dynamic_cast<solver::CholeskyPreconditioner*>(state->preconditioner.get()))
         cholesky->set_stop(nullptr);

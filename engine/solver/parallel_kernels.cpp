@@ -37,7 +37,71 @@ void multiply_rows(const CsrMatrix& a, const double* x, double* y, std::size_t b
     }
 }
 
+// Rows [begin, end) of r = b − A x for K vectors, with the rows' largest
+// |r| and their sums of r² and b² (in row order) for each vector.
+template <std::size_t K>
+void residual_rows(const CsrMatrix& a, const double* b, const double* x, double* r,
+                   std::size_t begin, std::size_t end, double* largest, double* r2, double* b2) {
+    for (std::size_t c = 0; c < K; ++c) largest[c] = r2[c] = b2[c] = 0.0;
+    for (std::size_t i = begin; i < end; ++i) {
+        double sum[K];
+        for (std::size_t c = 0; c < K; ++c) sum[c] = 0.0;
+        for (std::size_t p = a.row_offsets[i]; p < a.row_offsets[i + 1]; ++p) {
+            const double v = a.values[p];
+            const double* xj = x + static_cast<std::size_t>(a.col_indices[p]) * K;
+            for (std::size_t c = 0; c < K; ++c) sum[c] += v * xj[c];
+        }
+        for (std::size_t c = 0; c < K; ++c) {
+            const double bi = b[i * K + c];
+            const double ri = bi - sum[c];
+            r[i * K + c] = ri;
+            largest[c] = std::max(largest[c], std::isnan(ri) ? infinity : std::abs(ri));
+            r2[c] += ri * ri;
+            b2[c] += bi * bi;
+        }
+    }
+}
+
 }  // namespace
+
+void residual(const CsrMatrix& a, std::span<const double> b, std::span<const double> x,
+              std::span<double> r, std::size_t k, std::span<double> largest, std::span<double> r2,
+              std::span<double> b2, std::span<double> partial, jobs::WorkerPool* pool) {
+    const std::size_t n = a.rows;
+    for_blocks(n, pool, [&](std::size_t begin, std::size_t end, std::size_t block) {
+        double* block_largest = &partial[block * 3 * k];
+        double* block_r2 = block_largest + k;
+        double* block_b2 = block_r2 + k;
+        if (k == 3) {
+            return residual_rows<3>(a, b.data(), x.data(), r.data(), begin, end, block_largest,
+                                    block_r2, block_b2);
+        }
+        for (std::size_t c = 0; c < k; ++c) block_largest[c] = block_r2[c] = block_b2[c] = 0.0;
+        for (std::size_t i = begin; i < end; ++i) {
+            for (std::size_t c = 0; c < k; ++c) {
+                double sum = 0.0;
+                for (std::size_t p = a.row_offsets[i]; p < a.row_offsets[i + 1]; ++p)
+                    sum += a.values[p] * x[static_cast<std::size_t>(a.col_indices[p]) * k + c];
+                const double bi = b[i * k + c];
+                const double ri = bi - sum;
+                r[i * k + c] = ri;
+                block_largest[c] =
+                    std::max(block_largest[c], std::isnan(ri) ? infinity : std::abs(ri));
+                block_r2[c] += ri * ri;
+                block_b2[c] += bi * bi;
+            }
+        }
+    });
+    for (std::size_t c = 0; c < k; ++c) largest[c] = r2[c] = b2[c] = 0.0;
+    for (std::size_t block = 0; block < block_count(n); ++block) {
+        const double* sums = &partial[block * 3 * k];
+        for (std::size_t c = 0; c < k; ++c) {
+            largest[c] = std::max(largest[c], sums[c]);
+            r2[c] += sums[k + c];
+            b2[c] += sums[2 * k + c];
+        }
+    }
+}
 
 void multiply(const CsrMatrix& a, std::span<const double> x, std::span<double> y, std::size_t k,
               jobs::WorkerPool* pool) {

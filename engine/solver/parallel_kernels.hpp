@@ -25,6 +25,15 @@ constexpr std::size_t block_count(std::size_t n) {
 void multiply(const CsrMatrix& a, std::span<const double> x, std::span<double> y, std::size_t k,
               jobs::WorkerPool* pool);
 
+// r = b − A x, each row's sum as multiply computes it, and in the same
+// pass, for each c, largest[c] = max_j |r[j k + c]| (a NaN counting as
+// infinite), r2[c] = Σ_j r[j k + c]² and b2[c] = Σ_j b[j k + c]², the bits
+// of max_abs and dot over r and b. `partial` holds block_count(n) × 3k
+// doubles.
+void residual(const CsrMatrix& a, std::span<const double> b, std::span<const double> x,
+              std::span<double> r, std::size_t k, std::span<double> largest, std::span<double> r2,
+              std::span<double> b2, std::span<double> partial, jobs::WorkerPool* pool);
+
 // out[c] = Σ_j x[j k + c] y[j k + c] for each c. `partial` holds
 // block_count(n) × k doubles.
 void dot(std::span<const double> x, std::span<const double> y, std::size_t n, std::size_t k,

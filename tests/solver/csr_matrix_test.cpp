@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include <limits>
 #include <vector>
 
 #include "jobs/scheduler.hpp"
@@ -56,4 +57,41 @@ TEST_CASE("solver: the parallel product gives CsrMatrix::multiply's bits for eve
             REQUIRE(shared[i] == expected[i]);
         }
     }
+}
+
+TEST_CASE("solver: the residual pass gives the bits of the product, max_abs and dot") {
+    const CsrMatrix a = dfm::test::random_nonsymmetric(5000, 9, 41);
+    dfm::jobs::Scheduler pool(dfm::jobs::SchedulerConfig::threads(2));
+    for (const std::size_t k : {1u, 2u, 3u}) {
+        CAPTURE(k);
+        const std::size_t size = a.rows * k;
+        const std::vector<double> x = dfm::test::random_vector(a.cols * k, 50 + k);
+        std::vector<double> b = dfm::test::random_vector(size, 60 + k);
+        std::vector<double> expected(size);
+        kernels::multiply(a, x, expected, k, nullptr);
+        for (std::size_t i = 0; i < size; ++i) expected[i] = b[i] - expected[i];
+        std::vector<double> partial(kernels::block_count(a.rows) * 3 * k);
+        std::vector<double> largest(k), r2(k), b2(k);
+        kernels::max_abs(expected, a.rows, k, largest, partial, nullptr);
+        kernels::dot(expected, expected, a.rows, k, r2, partial, nullptr);
+        kernels::dot(b, b, a.rows, k, b2, partial, nullptr);
+        for (dfm::jobs::WorkerPool* on : {static_cast<dfm::jobs::WorkerPool*>(nullptr),
+                                          static_cast<dfm::jobs::WorkerPool*>(&pool)}) {
+            CAPTURE(on != nullptr);
+            std::vector<double> r(size, 7.0), got_largest(k), got_r2(k), got_b2(k);
+            kernels::residual(a, b, x, r, k, got_largest, got_r2, got_b2, partial, on);
+            for (std::size_t i = 0; i < size; ++i) REQUIRE(r[i] == expected[i]);
+            CHECK(got_largest == largest);
+            CHECK(got_r2 == r2);
+            CHECK(got_b2 == b2);
+        }
+    }
+    // A NaN in the residual is its largest entry, as max_abs counts it.
+    std::vector<double> b = dfm::test::random_vector(a.rows, 70);
+    b[4321] = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<double> x = dfm::test::random_vector(a.cols, 71);
+    std::vector<double> r(a.rows), partial(kernels::block_count(a.rows) * 3), largest(1), r2(1),
+        b2(1);
+    kernels::residual(a, b, x, r, 1, largest, r2, b2, partial, &pool);
+    CHECK(largest[0] == std::numeric_limits<double>::infinity());
 }
