@@ -335,12 +335,16 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
     paused_.active = false;
     report = SolveReport{};
     const auto start = std::chrono::steady_clock::now();
-    for (std::size_t i = 0; i < unknowns_.count(); ++i) {
-        const glm::dvec3& p = state_.positions[unknowns_.vertex_of_unknown[i]];
-        for (int c = 0; c < 3; ++c) state_.current[3 * i + c] = p[c];
-    }
+    // A prediction writes every unknown's start; without one the frame
+    // starts where the last ended.
     report.predicted =
         settings_.predict_frames && predictor_.predict(state_.targets, state_.current);
+    if (!report.predicted) {
+        for (std::size_t i = 0; i < unknowns_.count(); ++i) {
+            const glm::dvec3& p = state_.positions[unknowns_.vertex_of_unknown[i]];
+            for (int c = 0; c < 3; ++c) state_.current[3 * i + c] = p[c];
+        }
+    }
     const double carried = method_->start(state_, report);
     return iterate(report, control, 0, carried, start);
 }
@@ -399,14 +403,10 @@ Status DeformSession::iterate(SolveReport& report, const Control* control, int f
                           "finite result is kept");
         }
         if (report.last_update < settings_.tolerance) {
-            state_.store(state_.x);
             report.converged = true;
             break;
         }
-        if (it + 1 == settings_.max_iterations) {
-            state_.store(state_.x);
-            break;
-        }
+        if (it + 1 == settings_.max_iterations) break;
         carried = method_->advance(state_, report, carried);
         if (control != nullptr && control->on_iteration) control->on_iteration(report);
     }
@@ -420,7 +420,7 @@ void DeformSession::verify_last_solve(SolveReport& report) {
     // The last linear solve, confirmed to its tolerance: what the host gets
     // is the solution of the last system, not one unchecked step of it. On a
     // nearly singular system the confirmation can fail; then the unchecked
-    // step, finite and already stored, stands.
+    // step, which is finite, stands.
     std::copy(state_.x.begin(), state_.x.end(), state_.next.begin());
     std::size_t krylov = 0;
     const auto verify_start = std::chrono::steady_clock::now();
@@ -431,11 +431,11 @@ void DeformSession::verify_last_solve(SolveReport& report) {
     report.linear_converged = verified.is_ok() && linear_.converged();
     if (report.linear_converged) {
         report.linear_residual = linear_.relative_residual();
-        state_.store(state_.x);
     } else {
         report.linear_residual = std::numeric_limits<double>::quiet_NaN();
         std::copy(state_.next.begin(), state_.next.end(), state_.x.begin());
     }
+    state_.store(state_.x);
     if (report.converged) predictor_.record(state_.x, state_.targets);
 }
 

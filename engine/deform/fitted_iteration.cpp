@@ -69,7 +69,6 @@ solver::CsrMatrix FittedIteration::assemble_normal_matrix(IterationState& state,
 double FittedIteration::fit_and_prepare(IterationState& state, std::span<const double> x,
                                         int rotation_steps, SolveReport& report) {
     auto phase = std::chrono::steady_clock::now();
-    state.store(x);
     const double handles =
         write_handle_terms(x, state.soft_handles, state.targets, state.settings->handle_weight,
                            state.epsilon, state.rhs);
@@ -109,6 +108,8 @@ double FittedIteration::advance(IterationState& state, SolveReport& report, doub
         std::copy(state.x.begin(), state.x.end(), state.current.begin());
     }
     std::copy(state.current.begin(), state.current.end(), state.x.begin());
+    // The iterate a preview shows, and what an interrupted solve leaves.
+    state.store(state.x);
     report.energy = energy;
     return energy;
 }

@@ -33,9 +33,10 @@ public:
     std::size_t memory_bytes() const override { return rotations_.memory_bytes(); }
 
 private:
-    // Moves the unknowns to `x`, fits the rotations there with at most
+    // Fits the rotations to the unknowns at `x` with at most
     // `rotation_steps` Newton steps, and prepares the global step's
-    // right-hand side; returns the energy of `x`.
+    // right-hand side; returns the energy of `x`. The session's positions
+    // are left as they are: the fit reads only the fixed vertices there.
     double fit_and_prepare(IterationState& state, std::span<const double> x, int rotation_steps,
                            SolveReport& report);
 

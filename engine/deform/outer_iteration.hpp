@@ -30,7 +30,9 @@ struct IterationState {
     double epsilon = 0.0;                        // the regularization's weight (normal_system.hpp)
     bool pinned = true;                          // the ROI has a fixed boundary
     PooledVector<glm::dvec3> targets;            // per handle vertex
-    PooledVector<glm::dvec3> positions;  // the whole mesh, the unknowns at the current iterate
+    // The whole mesh, the unknowns where the last solve left them or, after
+    // OuterIteration::advance, at the current iterate.
+    PooledVector<glm::dvec3> positions;
     PooledVector<double> rhs;
     PooledVector<double> x;        // the linear solve's solution: G(current)
     PooledVector<double> current;  // the iterate the right-hand side was prepared for
@@ -54,7 +56,8 @@ public:
 
     // After a plain step x from state.current that did not converge:
     // chooses the next iterate (the Anderson extrapolation, or the plain
-    // step), makes it current and x, and prepares its right-hand side.
+    // step), makes it current, x and the positions' unknowns, and prepares
+    // its right-hand side.
     // Takes and returns the carried value.
     virtual double advance(IterationState& state, SolveReport& report, double carried) = 0;
 
