@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -15,6 +16,7 @@
 #include "deform/fitted_iteration.hpp"
 #include "deform/paper_iteration.hpp"
 #include "deform/row_order.hpp"
+#include "solver/parallel_kernels.hpp"
 
 namespace dfm::deform {
 
@@ -26,6 +28,8 @@ constexpr double linear_tolerance = 1e-8;
 // Steps of history for Anderson acceleration of the outer iteration.
 constexpr std::size_t anderson_memory = 8;
 
+constexpr double infinity = std::numeric_limits<double>::infinity();
+
 }  // namespace
 
 const char* method_name(DeformMethod m) {
@@ -33,10 +37,12 @@ const char* method_name(DeformMethod m) {
 }
 
 void IterationState::store(std::span<const double> iterate) {
-    for (std::size_t i = 0; i < unknowns->count(); ++i) {
-        positions[unknowns->vertex_of_unknown[i]] = {iterate[3 * i], iterate[3 * i + 1],
-                                                     iterate[3 * i + 2]};
-    }
+    jobs::for_parts(settings->pool, unknowns->count(), [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            positions[unknowns->vertex_of_unknown[i]] = {iterate[3 * i], iterate[3 * i + 1],
+                                                         iterate[3 * i + 2]};
+        }
+    });
 }
 
 DeformSession::DeformSession(const MeshModel& model, const DeformSettings& settings)
@@ -314,21 +320,27 @@ Status DeformSession::set_stopping_rule(double tolerance, int max_iterations) {
 }
 
 // The plain step's length |G(x) - x|, the convergence measure: the largest
-// vertex move from current to x. NaN fails every comparison, so a
-// non-finite solution shows as a non-finite length; the positions keep the
-// last good state.
+// vertex move from current to x, a NaN counting as infinite, so that a
+// non-finite solution shows as an infinite length; the positions keep the
+// last good state. A maximum: the same on any number of workers.
 double DeformSession::plain_step_length() const {
     const std::span<const double> x = state_.x;
     const std::span<const double> current = state_.current;
-    double largest = 0.0;
-    for (std::size_t i = 0; i < unknowns_.count(); ++i) {
-        const glm::dvec3 step(x[3 * i] - current[3 * i], x[3 * i + 1] - current[3 * i + 1],
-                              x[3 * i + 2] - current[3 * i + 2]);
-        const double move = glm::length(step);
-        largest = std::isfinite(move) ? std::max(largest, move) : move;
-        if (!std::isfinite(largest)) break;
-    }
-    return largest;
+    std::atomic<double> largest{0.0};
+    jobs::for_parts(settings_.pool, unknowns_.count(), [&](std::size_t begin, std::size_t end) {
+        double part = 0.0;
+        for (std::size_t i = begin; i < end && part != infinity; ++i) {
+            const glm::dvec3 step(x[3 * i] - current[3 * i], x[3 * i + 1] - current[3 * i + 1],
+                                  x[3 * i + 2] - current[3 * i + 2]);
+            const double move = glm::length(step);
+            part = std::isnan(move) ? infinity : std::max(part, move);
+        }
+        double seen = largest.load(std::memory_order_relaxed);
+        while (part > seen &&
+               !largest.compare_exchange_weak(seen, part, std::memory_order_relaxed)) {
+        }
+    });
+    return largest.load(std::memory_order_relaxed);
 }
 
 Status DeformSession::solve(SolveReport& report, const Control* control) {
@@ -337,8 +349,8 @@ Status DeformSession::solve(SolveReport& report, const Control* control) {
     const auto start = std::chrono::steady_clock::now();
     // A prediction writes every unknown's start; without one the frame
     // starts where the last ended.
-    report.predicted =
-        settings_.predict_frames && predictor_.predict(state_.targets, state_.current);
+    report.predicted = settings_.predict_frames &&
+                       predictor_.predict(state_.targets, state_.current, settings_.pool);
     if (!report.predicted) {
         for (std::size_t i = 0; i < unknowns_.count(); ++i) {
             const glm::dvec3& p = state_.positions[unknowns_.vertex_of_unknown[i]];
@@ -421,7 +433,7 @@ void DeformSession::verify_last_solve(SolveReport& report) {
     // is the solution of the last system, not one unchecked step of it. On a
     // nearly singular system the confirmation can fail; then the unchecked
     // step, which is finite, stands.
-    std::copy(state_.x.begin(), state_.x.end(), state_.next.begin());
+    solver::kernels::copy(state_.x, state_.next, settings_.pool);
     std::size_t krylov = 0;
     const auto verify_start = std::chrono::steady_clock::now();
     const Status verified = linear_.solve(state_.rhs, state_.x, linear_tolerance * diag,
@@ -433,10 +445,10 @@ void DeformSession::verify_last_solve(SolveReport& report) {
         report.linear_residual = linear_.relative_residual();
     } else {
         report.linear_residual = std::numeric_limits<double>::quiet_NaN();
-        std::copy(state_.next.begin(), state_.next.end(), state_.x.begin());
+        solver::kernels::copy(state_.next, state_.x, settings_.pool);
     }
     state_.store(state_.x);
-    if (report.converged) predictor_.record(state_.x, state_.targets);
+    if (report.converged) predictor_.record(state_.x, state_.targets, settings_.pool);
 }
 
 }  // namespace dfm::deform

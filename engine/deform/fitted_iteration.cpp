@@ -8,6 +8,7 @@
 #include "core/stopwatch.hpp"
 #include "deform/deform_energy.hpp"
 #include "deform/rotation_fit.hpp"
+#include "solver/parallel_kernels.hpp"
 
 namespace dfm::deform {
 
@@ -86,7 +87,7 @@ double FittedIteration::start(IterationState& state, SolveReport& report) {
     const double energy = fit_and_prepare(state, state.current, first_fit_steps, report);
     rotations_.keep_fit();
     report.energy = energy;
-    std::copy(state.current.begin(), state.current.end(), state.x.begin());
+    solver::kernels::copy(state.current, state.x, state.settings->pool);
     return energy;
 }
 

@@ -4,6 +4,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "solver/parallel_kernels.hpp"
+
 namespace dfm::deform {
 
 namespace {
@@ -25,15 +27,17 @@ void FramePredictor::reset(std::size_t size, std::size_t handles) {
     before_targets_.assign(handles, glm::dvec3(0.0));
 }
 
-void FramePredictor::record(std::span<const double> solution, std::span<const glm::dvec3> targets) {
+void FramePredictor::record(std::span<const double> solution, std::span<const glm::dvec3> targets,
+                            jobs::WorkerPool* pool) {
     std::swap(last_, before_);
     std::swap(last_targets_, before_targets_);
-    std::copy(solution.begin(), solution.end(), last_.begin());
+    solver::kernels::copy(solution, last_, pool);
     std::copy(targets.begin(), targets.end(), last_targets_.begin());
     frames_ = std::min<std::size_t>(frames_ + 1, 2);
 }
 
-bool FramePredictor::predict(std::span<const glm::dvec3> targets, std::span<double> start) const {
+bool FramePredictor::predict(std::span<const glm::dvec3> targets, std::span<double> start,
+                             jobs::WorkerPool* pool) const {
     if (frames_ < 2) return false;
     // The share s of the last target step that the new one repeats, by
     // least squares: new − last ≈ s (last − before).
@@ -47,8 +51,10 @@ bool FramePredictor::predict(std::span<const glm::dvec3> targets, std::span<doub
     if (!(squared > 0.0)) return false;
     const double share = std::clamp(along / squared, 0.0, largest_share);
     if (share == 0.0) return false;
-    for (std::size_t i = 0; i < last_.size(); ++i)
-        start[i] = last_[i] + share * (last_[i] - before_[i]);
+    jobs::for_parts(pool, last_.size(), [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i)
+            start[i] = last_[i] + share * (last_[i] - before_[i]);
+    });
     return true;
 }
 

@@ -8,6 +8,7 @@
 
 #include "core/memory_bytes.hpp"
 #include "core/pooled_allocator.hpp"
+#include "jobs/worker_pool.hpp"
 
 namespace dfm::deform {
 
@@ -35,12 +36,15 @@ public:
     void forget() { frames_ = 0; }
 
     // Records a converged frame: its solution and the targets it was for.
-    void record(std::span<const double> solution, std::span<const glm::dvec3> targets);
+    // `pool` (optional) spreads the copy; the same bits either way.
+    void record(std::span<const double> solution, std::span<const glm::dvec3> targets,
+                jobs::WorkerPool* pool = nullptr);
 
     // Writes the predicted solution for `targets` into `start` and returns
     // true, or leaves `start` alone and returns false when fewer than two
-    // frames are known or the last target step was zero.
-    bool predict(std::span<const glm::dvec3> targets, std::span<double> start) const;
+    // frames are known or the last target step was zero. `pool` as record's.
+    bool predict(std::span<const glm::dvec3> targets, std::span<double> start,
+                 jobs::WorkerPool* pool = nullptr) const;
 
     std::size_t memory_bytes() const {
         return capacity_bytes(last_, before_, last_targets_, before_targets_);

@@ -67,4 +67,20 @@ void run_tasks(WorkerPool* pool, std::size_t count, Task&& task) {
     }
 }
 
+// Calls body(begin, end) over [0, n) split into contiguous parts, a few
+// for each of `pool`'s threads, so that a thread that wakes late takes
+// fewer; in one call, inline, without a pool, with one thread or below
+// parallel_minimum. For loops whose every element is computed alone, the
+// same bits however split.
+template <class Body>
+void for_parts(WorkerPool* pool, std::size_t n, Body&& body) {
+    const std::size_t threads = pool != nullptr ? pool->thread_count() : 1;
+    if (threads == 1 || n < parallel_minimum) {
+        body(std::size_t{0}, n);
+        return;
+    }
+    const std::size_t parts = 4 * threads;
+    pool->run(parts, [&](std::size_t p) { body(p * n / parts, (p + 1) * n / parts); });
+}
+
 }  // namespace dfm::jobs

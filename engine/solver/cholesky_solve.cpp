@@ -93,10 +93,12 @@ void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::
     const std::size_t n = sym.n;
     double* y = work.data();
     double* below = y + n * k;
-    for (std::size_t i = 0; i < n; ++i) {
-        const double* from = &b[static_cast<std::size_t>(sym.perm[i]) * k];
-        for (std::size_t c = 0; c < k; ++c) y[i * k + c] = from[c];
-    }
+    jobs::for_parts(pool, n, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            const double* from = &b[static_cast<std::size_t>(sym.perm[i]) * k];
+            for (std::size_t c = 0; c < k; ++c) y[i * k + c] = from[c];
+        }
+    });
     const std::size_t threads = pool != nullptr ? pool->thread_count() : 1;
     const bool split = threads > 1 && n >= jobs::parallel_minimum &&
                        solve_schedule_.subtrees.size() == threads &&
@@ -131,10 +133,12 @@ void SparseCholesky::solve(std::span<const double> b, std::span<double> x, std::
             forward_supernode(sym, values_, s, y, k, below, everywhere);
         backward_in_order(sym, values_, 0, s_count, y, k, below);
     }
-    for (std::size_t i = 0; i < n; ++i) {
-        double* to = &x[static_cast<std::size_t>(sym.perm[i]) * k];
-        for (std::size_t c = 0; c < k; ++c) to[c] = y[i * k + c];
-    }
+    jobs::for_parts(pool, n, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            double* to = &x[static_cast<std::size_t>(sym.perm[i]) * k];
+            for (std::size_t c = 0; c < k; ++c) to[c] = y[i * k + c];
+        }
+    });
 }
 
 }  // namespace dfm::solver

@@ -120,6 +120,14 @@ void multiply(const CsrMatrix& a, std::span<const double> x, std::span<double> y
     });
 }
 
+void copy(std::span<const double> from, std::span<double> to, jobs::WorkerPool* pool) {
+    jobs::for_parts(pool, from.size(), [&](std::size_t begin, std::size_t end) {
+        std::copy(from.begin() + static_cast<std::ptrdiff_t>(begin),
+                  from.begin() + static_cast<std::ptrdiff_t>(end),
+                  to.begin() + static_cast<std::ptrdiff_t>(begin));
+    });
+}
+
 void dot(std::span<const double> x, std::span<const double> y, std::size_t n, std::size_t k,
          std::span<double> out, std::span<double> partial, jobs::WorkerPool* pool) {
     for_blocks(n, pool, [&](std::size_t begin, std::size_t end, std::size_t b) {

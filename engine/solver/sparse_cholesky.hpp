@@ -88,7 +88,8 @@ public:
     // thread count. `work` holds solve_work_size(k, threads) doubles. With
     // `pool`, the one the factor was computed with, independent subtrees are
     // solved on its threads (with another pool, or work sized for fewer
-    // threads, the solve runs on the calling thread alone). b and x may be
+    // threads, on the calling thread alone; the permutations into and out
+    // of the factor's order use any pool). b and x may be
     // the same span. Requires is_factored(). Allocation-free; concurrent
     // solves are safe when they use different work and pools.
     void solve(std::span<const double> b, std::span<double> x, std::size_t k,
