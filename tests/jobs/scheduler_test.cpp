@@ -159,6 +159,32 @@ TEST_CASE("jobs: run_tasks without a pool runs inline, in order") {
     CHECK(order == std::vector<std::size_t>{0, 1, 2, 3, 4});
 }
 
+TEST_CASE("jobs: for_parts covers every index once, in one inline call below parallel_minimum") {
+    for (const std::size_t workers : {1u, 2u, 3u}) {
+        CAPTURE(workers);
+        Scheduler pool(SchedulerConfig::threads(workers));
+        for (const std::size_t n :
+             {std::size_t{0}, parallel_minimum - 1, parallel_minimum, 3 * parallel_minimum + 7}) {
+            CAPTURE(n);
+            std::vector<std::atomic<int>> seen(n);
+            std::atomic<int> calls{0};
+            for_parts(&pool, n, [&](std::size_t begin, std::size_t end) {
+                ++calls;
+                for (std::size_t i = begin; i < end; ++i) seen[i].fetch_add(1);
+            });
+            for (const std::atomic<int>& s : seen) REQUIRE(s.load() == 1);
+            const bool split = workers > 1 && n >= parallel_minimum;
+            CHECK(calls.load() == (split ? static_cast<int>(4 * workers) : 1));
+        }
+    }
+    std::size_t covered = 0;
+    for_parts(nullptr, 3 * parallel_minimum, [&](std::size_t begin, std::size_t end) {
+        CHECK(begin == 0);
+        covered = end;
+    });
+    CHECK(covered == 3 * parallel_minimum);
+}
+
 TEST_CASE("jobs: tasks take turns in the order they were posted, a repost goes to the back") {
     Scheduler stepped(SchedulerConfig::stepped());
     std::string journal;
