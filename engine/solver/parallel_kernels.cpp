@@ -17,22 +17,27 @@ void for_blocks(std::size_t n, jobs::WorkerPool* pool, Body&& body) {
               [&](std::size_t b) { body(b * block_rows, std::min(n, (b + 1) * block_rows), b); });
 }
 
-// Rows [begin, end) of y = A x for K vectors, each row's sums held in
-// registers and stored once: summed in y itself, every addition waited on
-// the store of the one before it, since the compiler cannot tell that y
-// overlaps neither x nor A. The same additions in the same order as
-// CsrMatrix::multiply.
+// Row i of A x for K vectors, summed in registers: summed in the output
+// itself, every addition waited on the store of the one before it, since
+// the compiler cannot tell that the output overlaps neither x nor A. The
+// same additions in the same order as CsrMatrix::multiply.
+template <std::size_t K>
+void row_product(const CsrMatrix& a, const double* x, std::size_t i, double (&sum)[K]) {
+    for (std::size_t c = 0; c < K; ++c) sum[c] = 0.0;
+    for (std::size_t p = a.row_offsets[i]; p < a.row_offsets[i + 1]; ++p) {
+        const double v = a.values[p];
+        const double* xj = x + static_cast<std::size_t>(a.col_indices[p]) * K;
+        for (std::size_t c = 0; c < K; ++c) sum[c] += v * xj[c];
+    }
+}
+
+// Rows [begin, end) of y = A x for K vectors, each row stored once.
 template <std::size_t K>
 void multiply_rows(const CsrMatrix& a, const double* x, double* y, std::size_t begin,
                    std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
         double sum[K];
-        for (std::size_t c = 0; c < K; ++c) sum[c] = 0.0;
-        for (std::size_t p = a.row_offsets[i]; p < a.row_offsets[i + 1]; ++p) {
-            const double v = a.values[p];
-            const double* xj = x + static_cast<std::size_t>(a.col_indices[p]) * K;
-            for (std::size_t c = 0; c < K; ++c) sum[c] += v * xj[c];
-        }
+        row_product(a, x, i, sum);
         for (std::size_t c = 0; c < K; ++c) y[i * K + c] = sum[c];
     }
 }
@@ -45,12 +50,7 @@ void residual_rows(const CsrMatrix& a, const double* b, const double* x, double*
     for (std::size_t c = 0; c < K; ++c) largest[c] = r2[c] = b2[c] = 0.0;
     for (std::size_t i = begin; i < end; ++i) {
         double sum[K];
-        for (std::size_t c = 0; c < K; ++c) sum[c] = 0.0;
-        for (std::size_t p = a.row_offsets[i]; p < a.row_offsets[i + 1]; ++p) {
-            const double v = a.values[p];
-            const double* xj = x + static_cast<std::size_t>(a.col_indices[p]) * K;
-            for (std::size_t c = 0; c < K; ++c) sum[c] += v * xj[c];
-        }
+        row_product(a, x, i, sum);
         for (std::size_t c = 0; c < K; ++c) {
             const double bi = b[i * K + c];
             const double ri = bi - sum[c];
