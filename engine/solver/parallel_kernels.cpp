@@ -17,10 +17,10 @@ void for_blocks(std::size_t n, jobs::WorkerPool* pool, Body&& body) {
               [&](std::size_t b) { body(b * block_rows, std::min(n, (b + 1) * block_rows), b); });
 }
 
-// Row i of A x for K vectors, summed in registers: summed in the output
-// itself, every addition waited on the store of the one before it, since
-// the compiler cannot tell that the output overlaps neither x nor A. The
-// same additions in the same order as CsrMatrix::multiply.
+// Row i of A x for K vectors into `sum`, held in registers (summed in the
+// output itself, every addition would wait on the store of the one before
+// it, since the compiler cannot tell that the output overlaps neither x
+// nor A); the same additions in the same order as CsrMatrix::multiply.
 template <std::size_t K>
 void row_product(const CsrMatrix& a, const double* x, std::size_t i, double (&sum)[K]) {
     for (std::size_t c = 0; c < K; ++c) sum[c] = 0.0;

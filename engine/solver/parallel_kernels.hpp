@@ -34,7 +34,7 @@ void residual(const CsrMatrix& a, std::span<const double> b, std::span<const dou
               std::span<double> r, std::size_t k, std::span<double> largest, std::span<double> r2,
               std::span<double> b2, std::span<double> partial, jobs::WorkerPool* pool);
 
-// to = from (the same size).
+// to = from (the same size), in contiguous parts (jobs::for_parts).
 void copy(std::span<const double> from, std::span<double> to, jobs::WorkerPool* pool);
 
 // out[c] = Σ_j x[j k + c] y[j k + c] for each c. `partial` holds
