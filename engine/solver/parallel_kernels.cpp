@@ -22,7 +22,8 @@ void for_blocks(std::size_t n, jobs::WorkerPool* pool, Body&& body) {
 // it, since the compiler cannot tell that the output overlaps neither x
 // nor A); the same additions in the same order as CsrMatrix::multiply.
 template <std::size_t K>
-void row_product(const CsrMatrix& a, const double* x, std::size_t i, double (&sum)[K]) {
+[[gnu::always_inline]] inline void row_product(const CsrMatrix& a, const double* x, std::size_t i,
+                                               double (&sum)[K]) {
     for (std::size_t c = 0; c < K; ++c) sum[c] = 0.0;
     for (std::size_t p = a.row_offsets[i]; p < a.row_offsets[i + 1]; ++p) {
         const double v = a.values[p];
