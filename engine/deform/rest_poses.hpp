@@ -1,31 +1,50 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include "core/status.hpp"
 #include "deform/mesh_model.hpp"
+#include "mesh/skin_pose.hpp"
 
 namespace dfm::deform {
 
 // A mesh's history of rest poses: the current one, the earlier ones undo
 // brings back and the undone ones redo brings back. A bake or a host's new
 // positions add a step (and forget what could be redone). Thread-safe.
+//
+// A mesh with a skin (mesh/skin.hpp) keeps its history in bind space, and
+// may be posed: then the rest pose every edit sees, picks and reads is the
+// current bind-space pose skinned at that pose (built on first need), and a
+// step given in that posed space is kept as its exact bind-space corrective
+// (mesh::corrective_positions). Without a pose, or without a skin, the
+// shown pose is the bind-space one, as it always was.
 class RestPoses {
 public:
     using Pose = std::shared_ptr<const MeshModel>;
+    // A new model record, for the shapes the history builds itself (the SDK
+    // takes them from the host's allocator).
+    using MakeModel = std::function<std::shared_ptr<MeshModel>()>;
 
-    explicit RestPoses(Pose first) : current_(std::move(first)) {}
+    explicit RestPoses(Pose first, std::shared_ptr<const mesh::Skin> skin = nullptr,
+                       MakeModel make_model = nullptr);
 
+    // The rest pose as shown: the bind-space one, or the posed one.
     Pose current() const;
+    // The current bind-space rest pose: what a save of a skinned asset writes.
+    Pose bind() const;
 
     // Makes `next` the current pose, a new step of the history, if `expected`
-    // is still the current one; `before` runs first under the history's lock
-    // (a session's restart on the new pose), and a failure there changes
-    // nothing. Errc::busy (nothing changed) when the pose changed.
+    // is still the current (shown) one; `before` runs first under the
+    // history's lock (a session's restart on the new pose), and a failure
+    // there changes nothing. Errc::busy (nothing changed) when the pose
+    // changed. On a posed mesh `next` is in the posed space: the step keeps
+    // its bind-space corrective, and `next` stays the shown pose.
     Status add_step(const Pose& expected, Pose next, const std::function<Status()>& before);
 
     // Undo: the current pose goes to the redo list and the last earlier one
@@ -36,17 +55,44 @@ public:
     std::size_t undo_count() const;
     std::size_t redo_count() const;
 
-    // Calls `visit(pose)` for the current pose and each one undo or redo can
-    // bring back, under the lock.
+    // Calls `visit(pose)` for the current shown pose, then every other model
+    // the history holds (bind-space poses behind posed ones, the poses undo
+    // or redo can bring back), under the lock.
     void for_each(const std::function<void(const MeshModel&)>& visit) const;
 
+    // The skin, or null.
+    const mesh::Skin* skin() const { return skin_.get(); }
+    // Poses the mesh (its joint matrices and morph weights, checked by the
+    // caller against the skin): the shown rest pose changes, so sessions
+    // made before can no longer bake. Errc::unsupported without a skin.
+    Status set_skin_pose(mesh::SkinPose pose);
+    // Back to the bind space.
+    void clear_skin_pose();
+    // The pose set, if any.
+    std::optional<mesh::SkinPose> skin_pose() const;
+    // What the last step in the posed space found of its corrective.
+    mesh::CorrectiveReport last_corrective() const;
+
 private:
-    bool step(std::vector<Pose>& from, std::vector<Pose>& to);
+    struct Step {
+        Pose bind;
+        // The bind pose skinned at the pose of version `shown_for`.
+        mutable Pose shown;
+        mutable std::uint64_t shown_for = 0;
+    };
+    const Pose& shown_locked(const Step& step) const;
+    bool step(std::vector<Step>& from, std::vector<Step>& to);
+    std::shared_ptr<MeshModel> make_model() const;
 
     mutable std::mutex mutex_;
-    Pose current_;
-    std::vector<Pose> undo_;
-    std::vector<Pose> redo_;
+    Step current_;
+    std::vector<Step> undo_;
+    std::vector<Step> redo_;
+    std::shared_ptr<const mesh::Skin> skin_;
+    MakeModel make_model_;
+    std::optional<mesh::SkinPose> pose_;
+    std::uint64_t pose_version_ = 0;  // grows with every set_skin_pose
+    mesh::CorrectiveReport last_corrective_;
 };
 
 }  // namespace dfm::deform

@@ -28,6 +28,8 @@ struct GltfSlot {
 // one). NORMAL and TANGENT are those of the first primitive using it.
 struct GltfVertexRange {
     int mesh = -1;
+    int node = -1;  // the node that instances the mesh; -1 for a mesh chosen by #mesh=
+    int skin = -1;  // that node's skin, -1 without one
     std::uint32_t first_vertex = 0;
     std::uint32_t count = 0;
     glm::dmat4 world{1.0};
@@ -44,6 +46,17 @@ struct GltfPrimitive {
     std::uint32_t triangle_count = 0;
 };
 
+// An animation sampler that drives morph weights, as loaded: a morph
+// target added by a save widens its output by a zero column per key.
+struct GltfWeightSampler {
+    int animation = -1;
+    int sampler = -1;
+    int node = -1;            // the node whose weights its channel animates
+    std::uint32_t width = 0;  // targets per key
+    bool cubic_spline = false;
+    std::vector<double> values;  // keys * width (* 3 for a cubic spline)
+};
+
 // What saving a glTF back needs: the document as it was (JSON text and
 // buffer bytes, untouched), and where the loaded vertices came from, with
 // their original local positions, normals and tangents in host order.
@@ -56,6 +69,7 @@ struct GltfAsset {
     std::vector<glm::dvec3> local_positions;
     std::vector<glm::dvec3> normals;   // zero where the range has no NORMAL
     std::vector<glm::dvec4> tangents;  // zero where the range has no TANGENT
+    std::vector<GltfWeightSampler> weight_samplers;
 };
 
 }  // namespace dfm::mesh

@@ -28,17 +28,21 @@ struct EditedVertices {
 EditedVertices edited_vertices(const GltfAsset& asset, std::span<const glm::dvec3> host_positions,
                                std::span<const Triangle> host_triangles);
 
-// Appends a dense float accessor (components 3 or 4, with bounds when asked)
-// and returns its index.
+// Appends a dense float accessor (components 1, 3 or 4, with bounds when
+// asked) and returns its index.
 using AppendAccessor = std::function<int(const std::vector<float>&, int, bool)>;
 
 // Adds the edit as a morph target named `name` to every primitive of each
 // mesh the edit touches (POSITION and, where the primitive has normals,
 // NORMAL deltas; zero deltas on the mesh's other primitives, since all of a
 // mesh's primitives must have the same targets), extending mesh and node
-// weights with 0 and mesh.extras.targetNames with the name. The base
-// positions stay as they were.
+// weights with 0 and mesh.extras.targetNames with the name, and giving
+// every animation sampler that drives those meshes' weights a new output
+// with a zero column for it (the old output accessor is left as it was).
+// `extras`, a JSON object's text or empty, becomes the extras of the new
+// POSITION deltas' accessor (what a posed edit records of its pose). The
+// base positions stay as they were.
 void add_morph_target(const GltfAsset& asset, const EditedVertices& edit, const std::string& name,
-                      nlohmann::json& doc, const AppendAccessor& append);
+                      const std::string& extras, nlohmann::json& doc, const AppendAccessor& append);
 
 }  // namespace dfm::mesh

@@ -8,6 +8,7 @@
 #include "mesh/gltf_asset.hpp"
 #include "mesh/load.hpp"
 #include "mesh/mesh.hpp"
+#include "mesh/skin.hpp"
 
 namespace dfm::mesh {
 
@@ -31,18 +32,21 @@ struct ExternalFiles {
 // asset a save writes back. `selector` names one mesh (by name, else by
 // index; its own space); empty: the default scene's meshes with their node
 // transforms. `files` says where external buffers may be read from; null
-// refuses them all (a document given as bytes). Never throws but for
-// std::bad_alloc.
+// refuses them all (a document given as bytes). `skin` receives what poses
+// the host vertices (gltf_skin_reader.hpp), empty when nothing does. Never
+// throws but for std::bad_alloc.
 Status read_gltf(std::string_view bytes, std::string_view source, const ExternalFiles* files,
-                 const std::string& selector, Mesh& host, GltfAsset& asset, LoadReport& report);
+                 const std::string& selector, Mesh& host, GltfAsset& asset, Skin& skin,
+                 LoadReport& report);
 
 // The asset written back with `host_positions` (world space, host order):
 // see docs/gltf.md for what is kept. A non-empty `morph_target` keeps the
-// base positions and adds the edit as a morph target of that name. `binary`
-// writes GLB, else JSON with embedded buffers.
+// base positions and adds the edit as a morph target of that name, with
+// `morph_target_extras` (a JSON object's text, or empty) as its POSITION
+// accessor's extras. `binary` writes GLB, else JSON with embedded buffers.
 Status write_gltf(const GltfAsset& asset, std::span<const glm::dvec3> host_positions,
                   std::span<const Triangle> host_triangles, const std::string& morph_target,
-                  bool binary, std::string& out);
+                  const std::string& morph_target_extras, bool binary, std::string& out);
 
 // A fresh, minimal asset for a mesh that did not come from glTF: one node
 // and one mesh, both called `name`, POSITION and NORMAL and 32-bit indices.

@@ -14,6 +14,7 @@
 
 #include "mesh/gltf_accessors.hpp"
 #include "mesh/gltf_io.hpp"
+#include "mesh/gltf_skin_reader.hpp"
 
 namespace dfm::mesh {
 
@@ -173,6 +174,8 @@ glm::dmat4 local_matrix(const tinygltf::Node& node) {
 struct Instance {
     int mesh;
     glm::dmat4 world;
+    int node = -1;
+    int skin = -1;
 };
 
 class Reader {
@@ -271,11 +274,13 @@ Status Reader::instances(const std::string& selector, std::vector<Instance>& out
         if (node.mesh >= 0) {
             if (mesh_taken[node.mesh]) {
                 warn("node " + std::to_string(n) + " instances mesh " + std::to_string(node.mesh) +
-                     " again; only its first instance is loaded");
+                     " again" +
+                     (node.skin >= 0 ? " with skin " + std::to_string(node.skin) : std::string()) +
+                     "; only its first instance is loaded");
             } else {
                 mesh_taken[node.mesh] = true;
                 // A skinned mesh lives in its skeleton's space, not its node's.
-                out.push_back({node.mesh, node.skin >= 0 ? glm::dmat4(1.0) : world});
+                out.push_back({node.mesh, node.skin >= 0 ? glm::dmat4(1.0) : world, n, node.skin});
             }
         }
         for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) {
@@ -323,6 +328,8 @@ Status Reader::add_range(const Instance& instance, const tinygltf::Primitive& pr
     }
     GltfVertexRange r;
     r.mesh = instance.mesh;
+    r.node = instance.node;
+    r.skin = instance.skin;
     r.first_vertex = static_cast<std::uint32_t>(host_.positions.size());
     r.count = static_cast<std::uint32_t>(count);
     r.world = instance.world;
@@ -507,9 +514,11 @@ std::string json_text(std::string_view bytes, bool binary) {
 }  // namespace
 
 Status read_gltf(std::string_view bytes, std::string_view source, const ExternalFiles* files,
-                 const std::string& selector, Mesh& host, GltfAsset& asset, LoadReport& report) {
+                 const std::string& selector, Mesh& host, GltfAsset& asset, Skin& skin,
+                 LoadReport& report) {
     host = Mesh{};
     asset = GltfAsset{};
+    skin = Skin{};
     const std::string name(source);
     if (bytes.size() > 0xFFFFFFFFu) {
         return Status(Errc::out_of_range, name + ": more than 4 GiB, larger than glTF allows");
@@ -547,6 +556,9 @@ Status read_gltf(std::string_view bytes, std::string_view source, const External
                                              one_line(err.empty() ? warn : err));
     }
     if (!warn.empty()) report.warnings.push_back(name + ": " + one_line(warn));
+    // What tinygltf skipped and still loaded (an animation channel that
+    // names no node, for one) it reports as an error text.
+    if (!err.empty()) report.warnings.push_back(name + ": skipped: " + one_line(err));
     for (const std::string& ext : model.extensionsRequired) {
         if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
             ext == "KHR_mesh_quantization") {
@@ -570,6 +582,11 @@ Status read_gltf(std::string_view bytes, std::string_view source, const External
         return Status(Errc::parse_error,
                       name + ": no triangle primitive in " +
                           (selector.empty() ? "the default scene" : "mesh '" + selector + "'"));
+    }
+    if (Status s = read_gltf_skin(model, source, asset, skin, report); !s) {
+        host = Mesh{};
+        asset = GltfAsset{};
+        return s;
     }
     reader.finish_slots();
     asset.source = name;

@@ -66,7 +66,9 @@ struct Document {
         json a = {{"bufferView", view},
                   {"componentType", float_type},
                   {"count", values.size() / components},
-                  {"type", components == 3 ? "VEC3" : "VEC4"}};
+                  {"type", components == 1   ? "SCALAR"
+                           : components == 3 ? "VEC3"
+                                             : "VEC4"}};
         if (bounds) set_bounds(a, values, components);
         doc["accessors"].push_back(a);
         return static_cast<int>(doc["accessors"].size()) - 1;
@@ -148,7 +150,7 @@ std::string finish(Document& d, bool binary) {
 
 Status write_gltf(const GltfAsset& asset, std::span<const glm::dvec3> host_positions,
                   std::span<const Triangle> host_triangles, const std::string& morph_target,
-                  bool binary, std::string& out) {
+                  const std::string& morph_target_extras, bool binary, std::string& out) {
     const std::size_t n = asset.local_positions.size();
     if (host_positions.size() != n) {
         return Status(Errc::internal, asset.source + ": the mesh has " +
@@ -167,7 +169,7 @@ Status write_gltf(const GltfAsset& asset, std::span<const glm::dvec3> host_posit
 
     EditedVertices edit = edited_vertices(asset, host_positions, host_triangles);
     if (!morph_target.empty()) {
-        add_morph_target(asset, edit, morph_target, d.doc,
+        add_morph_target(asset, edit, morph_target, morph_target_extras, d.doc,
                          [&](const std::vector<float>& v, int components, bool bounds) {
                              return d.append_accessor(v, components, bounds);
                          });

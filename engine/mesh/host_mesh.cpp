@@ -3,6 +3,7 @@
 #include <new>
 
 #include "mesh/gltf_io.hpp"
+#include "mesh/skin_weld.hpp"
 
 namespace dfm::mesh {
 
@@ -27,11 +28,13 @@ Status load_host_mesh(const std::filesystem::path& spec, Mesh& surface, HostMesh
                                   reference_folder};
         Mesh split;
         auto asset = std::make_shared<GltfAsset>();
-        if (Status s = read_gltf(bytes, path.string(), &files, selector, split, *asset, r); !s) {
+        Skin skin;
+        if (Status s = read_gltf(bytes, path.string(), &files, selector, split, *asset, skin, r);
+            !s) {
             return s;
         }
         auto welded = std::make_shared<SeamWeld>();
-        weld_seams(split.positions, split.triangles, weld, surface, *welded);
+        weld_skinned(split, skin, weld, path.string(), surface, *welded, host.skin, r);
         host.weld = std::move(welded);
         host.gltf = std::move(asset);
         return Status::ok();
@@ -51,8 +54,8 @@ std::vector<glm::dvec3> host_positions(const Mesh& surface, const HostMesh& host
     return out;
 }
 
-Status save_host_mesh(const std::filesystem::path& path, const Mesh& surface, const HostMesh& host,
-                      const WriteOptions& options) {
+Status save_host_mesh(const std::filesystem::path& path, const Mesh& bind, const Mesh& shown,
+                      const HostMesh& host, const WriteOptions& options) {
     const std::string name = path.string();
     const bool gltf = format_from_extension(path) == FileFormat::gltf;
     if (!options.morph_target.empty() && (!gltf || !host.gltf)) {
@@ -61,20 +64,21 @@ Status save_host_mesh(const std::filesystem::path& path, const Mesh& surface, co
                           ": a morph target is written only to .gltf or .glb, for a mesh "
                           "loaded from glTF (it is the difference from that asset)");
     }
-    if (!gltf || !host.weld) return save_mesh(path, surface, options);
+    if (!gltf || !host.weld) return save_mesh(path, shown, options);
     try {
-        const std::vector<glm::dvec3> positions = host_positions(surface, host);
         const bool binary = path.extension() == ".glb" || path.extension() == ".GLB";
         std::string bytes;
         if (host.gltf) {
-            if (Status s = write_gltf(*host.gltf, positions, host.weld->host_triangles,
-                                      options.morph_target, binary, bytes);
+            const std::vector<glm::dvec3> positions = host_positions(bind, host);
+            if (Status s =
+                    write_gltf(*host.gltf, positions, host.weld->host_triangles,
+                               options.morph_target, options.morph_target_extras, binary, bytes);
                 !s) {
                 return Status(s.code(), name + ": " + s.message());
             }
         } else {
-            write_fresh_gltf(positions, host.weld->host_triangles, path.stem().string(), binary,
-                             bytes);
+            write_fresh_gltf(host_positions(shown, host), host.weld->host_triangles,
+                             path.stem().string(), binary, bytes);
         }
         return write_file_atomically(path, bytes);
     } catch (const std::bad_alloc&) {

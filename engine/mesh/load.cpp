@@ -9,6 +9,7 @@
 #include "mesh/host_mesh.hpp"
 #include "mesh/mesh_builder.hpp"
 #include "mesh/readers.hpp"
+#include "mesh/skin_weld.hpp"
 
 namespace dfm::mesh {
 
@@ -96,9 +97,13 @@ Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view so
         if (format == FileFormat::gltf) {
             Mesh host;
             GltfAsset asset;
-            if (Status s = read_gltf(bytes, source, nullptr, "", host, asset, r); !s) return s;
+            Skin skin;
+            if (Status s = read_gltf(bytes, source, nullptr, "", host, asset, skin, r); !s) {
+                return s;
+            }
             SeamWeld weld;
-            weld_seams(host.positions, host.triangles, {}, out, weld);
+            std::shared_ptr<const Skin> surface_skin;
+            weld_skinned(host, skin, {}, std::string(source), out, weld, surface_skin, r);
             return Status::ok();
         }
         MeshBuilder builder(r);

@@ -29,10 +29,29 @@ void extend_weights(json& owner) {
     }
 }
 
+// Every sampler that animates the weights of a node instancing one of
+// `meshes` gets a new output: each key's `width` values and a 0.
+void widen_weight_samplers(const GltfAsset& asset, const std::set<int>& meshes, json& doc,
+                           const AppendAccessor& append) {
+    std::set<std::pair<int, int>> done;
+    for (const GltfWeightSampler& w : asset.weight_samplers) {
+        if (!done.insert({w.animation, w.sampler}).second) continue;
+        const json& node = doc["nodes"][w.node];
+        if (!node.is_object() || meshes.count(node.value("mesh", -1)) == 0) continue;
+        std::vector<float> widened;
+        widened.reserve(w.values.size() / w.width * (w.width + 1));
+        for (std::size_t i = 0; i < w.values.size(); ++i) {
+            widened.push_back(static_cast<float>(w.values[i]));
+            if ((i + 1) % w.width == 0) widened.push_back(0.0f);
+        }
+        doc["animations"][w.animation]["samplers"][w.sampler]["output"] = append(widened, 1, false);
+    }
+}
+
 }  // namespace
 
 void add_morph_target(const GltfAsset& asset, const EditedVertices& edit, const std::string& name,
-                      json& doc, const AppendAccessor& append) {
+                      const std::string& extras, json& doc, const AppendAccessor& append) {
     std::set<int> touched;
     for (const GltfVertexRange& r : asset.ranges) {
         for (std::uint32_t v = r.first_vertex; v < r.first_vertex + r.count; ++v) {
@@ -65,6 +84,10 @@ void add_morph_target(const GltfAsset& asset, const EditedVertices& edit, const 
             }
         }
         const int p = append(dp, 3, true);
+        if (!extras.empty()) {
+            json record = json::parse(extras, nullptr, false);
+            if (record.is_object()) doc["accessors"][p]["extras"] = std::move(record);
+        }
         const int nrm = r.normal.accessor >= 0 ? append(dn, 3, false) : -1;
         return deltas_of_range[index] = {p, nrm};
     };
@@ -104,6 +127,7 @@ void add_morph_target(const GltfAsset& asset, const EditedVertices& edit, const 
             if (node.is_object() && node.value("mesh", -1) == m) extend_weights(node);
         }
     }
+    widen_weight_samplers(asset, touched, doc, append);
 }
 
 }  // namespace dfm::mesh

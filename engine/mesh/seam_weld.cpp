@@ -87,6 +87,34 @@ std::vector<std::uint32_t> tolerance_classes(std::span<const glm::dvec3> p, doub
     return cls;
 }
 
+// Splits each position class by the vertices' attribute classes; returns
+// how many position classes that split. Ties in the position class meet in
+// the sort, so each class is one run of `order`.
+std::size_t refine_classes(std::vector<std::uint32_t>& cls,
+                           std::span<const std::uint32_t> attributes) {
+    std::vector<std::uint32_t> order(cls.size());
+    std::iota(order.begin(), order.end(), std::uint32_t{0});
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return std::tie(cls[a], attributes[a]) < std::tie(cls[b], attributes[b]);
+    });
+    std::vector<std::uint32_t> refined(cls.size());
+    std::uint32_t next = 0;
+    std::size_t split = 0;
+    for (std::size_t begin = 0; begin < order.size();) {
+        std::size_t end = begin + 1;
+        while (end < order.size() && cls[order[end]] == cls[order[begin]]) ++end;
+        for (std::size_t i = begin; i < end; ++i) {
+            if (i > begin && attributes[order[i]] != attributes[order[i - 1]]) ++next;
+            refined[order[i]] = next;
+        }
+        if (attributes[order[begin]] != attributes[order[end - 1]]) ++split;
+        ++next;
+        begin = end;
+    }
+    cls = std::move(refined);
+    return split;
+}
+
 // A face's edge between two position classes, lo < hi, with the host
 // vertices the face uses at each end.
 struct FaceEdge {
@@ -98,14 +126,16 @@ struct FaceEdge {
 
 void weld_seams(std::span<const glm::dvec3> host_positions,
                 std::span<const Triangle> host_triangles, const WeldOptions& options, Mesh& surface,
-                SeamWeld& weld) {
+                SeamWeld& weld, std::span<const std::uint32_t> classes) {
     const std::size_t n = host_positions.size();
     DisjointSets copies(n);
+    std::size_t kept_apart = 0;
     if (options.mode != WeldMode::none) {
-        const std::vector<std::uint32_t> cls =
+        std::vector<std::uint32_t> cls =
             options.mode == WeldMode::tolerance && options.tolerance > 0.0
                 ? tolerance_classes(host_positions, options.tolerance)
                 : exact_classes(host_positions);
+        if (!classes.empty()) kept_apart = refine_classes(cls, classes);
         std::vector<FaceEdge> edges;
         edges.reserve(3 * host_triangles.size());
         for (const Triangle& t : host_triangles) {
@@ -136,6 +166,7 @@ void weld_seams(std::span<const glm::dvec3> host_positions,
     }
 
     weld = SeamWeld{};
+    weld.kept_apart = kept_apart;
     weld.surface_of.assign(n, no_index);
     std::vector<std::uint32_t> surface_of_root(n, no_index);
     std::uint32_t surfaces = 0;

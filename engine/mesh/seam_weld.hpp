@@ -32,6 +32,9 @@ struct SeamWeld {
     std::vector<std::uint32_t> copies;        // host vertices grouped by surface vertex
     std::vector<Triangle> host_triangles;     // the host's triangles, in its numbering
     std::vector<std::uint32_t> host_face_of;  // surface triangle -> host triangle
+    // Positions whose copies fall in more than one attribute class
+    // (weld_seams' `classes`): copies of different classes stay apart.
+    std::size_t kept_apart = 0;
 
     std::size_t host_vertex_count() const { return surface_of.size(); }
     std::size_t surface_vertex_count() const {
@@ -52,9 +55,11 @@ struct SeamWeld {
 // uses. So two sheets that merely touch at a point stay two surface vertices
 // and the surface stays manifold. Triangles the weld collapses (two corners
 // joined) are left out of `surface`. `host_triangles` must index
-// `host_positions`. Never throws but for std::bad_alloc.
+// `host_positions`. `classes`, when not empty, gives each host vertex an
+// attribute class (its skin, skin_weld.hpp): copies join only within one.
+// Never throws but for std::bad_alloc.
 void weld_seams(std::span<const glm::dvec3> host_positions,
                 std::span<const Triangle> host_triangles, const WeldOptions& options, Mesh& surface,
-                SeamWeld& weld);
+                SeamWeld& weld, std::span<const std::uint32_t> classes = {});
 
 }  // namespace dfm::mesh

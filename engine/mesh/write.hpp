@@ -18,6 +18,9 @@ struct WriteOptions {
     // glTF from glTF only: keep the base positions and add the edit as a
     // morph target of this name (empty: write the new positions).
     std::string morph_target = {};
+    // A JSON object's text recorded as the morph target's POSITION
+    // accessor's extras (the pose of a corrective); empty: none.
+    std::string morph_target_extras = {};
 };
 
 // Each writes the whole file into `out`; coordinates round-trip exactly

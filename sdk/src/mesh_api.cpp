@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <type_traits>
 
@@ -10,10 +11,13 @@
 #include "mesh/load.hpp"
 #include "mesh/model_cache.hpp"
 #include "mesh/normals.hpp"
+#include "mesh/skin_pose.hpp"
+#include "mesh/skin_weld.hpp"
 #include "mesh/summary.hpp"
 #include "mesh/write.hpp"
 #include "objects.hpp"
 #include "shared_calls.hpp"
+#include "skin_input.hpp"
 #include "vec3_arrays.hpp"
 
 using namespace dfm;
@@ -218,16 +222,28 @@ extern "C" DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_me
         }
         mesh::WeldOptions weld;
         if (Status s = weld_from(d, m, weld); !s) return report(fn, s);
+        mesh::Skin skin;
+        if (d.skin.joint_count > 0) {
+            if (Status s = read_skin_input(d.skin, m.vertex_count(), skin); !s) {
+                return report(fn, s);
+            }
+        }
+        mesh::HostMesh host;
         if (weld.mode == mesh::WeldMode::none) {
-            return make_mesh_handle(*c->state, c->state, std::move(m), out);
+            if (skin.vertex_count() > 0)
+                host.skin = std::make_shared<const mesh::Skin>(std::move(skin));
+            return make_mesh_handle(*c->state, c->state, std::move(m), out, std::move(host));
         }
         mesh::Mesh surface;
         auto welded = std::make_shared<mesh::SeamWeld>();
-        mesh::weld_seams(m.positions, m.triangles, weld, surface, *welded);
+        mesh::LoadReport weld_report;
+        mesh::weld_skinned(m, skin, weld, fn, surface, *welded, host.skin, weld_report);
         if (surface.face_count() == 0) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the weld leaves no triangle");
         }
-        mesh::HostMesh host;
+        for (const std::string& warning : weld_report.warnings) {
+            c->state->emit(DFM_LOG_WARNING, DFM_LOG_ID_LOAD_WARNING, warning);
+        }
         host.weld = std::move(welded);
         return make_mesh_handle(*c->state, c->state, std::move(surface), out, std::move(host));
     });
@@ -283,8 +299,14 @@ dfm_result save_mesh_call(const char* fn, const dfm_mesh* mesh, const char* path
             write.obj_normals = o.obj_normals;
             if (o.morph_target_name != nullptr) write.morph_target = o.morph_target_name;
         }
-        return report(fn,
-                      mesh::save_host_mesh(path, m->state->current()->mesh, m->state->host, write));
+        const deform::RestPoses& poses = m->state->poses;
+        if (!write.morph_target.empty()) {
+            if (const std::optional<mesh::SkinPose> pose = poses.skin_pose()) {
+                write.morph_target_extras = mesh::pose_record(*poses.skin(), *pose);
+            }
+        }
+        return report(fn, mesh::save_host_mesh(path, poses.bind()->mesh, poses.current()->mesh,
+                                               m->state->host, write));
     });
 }
 

@@ -77,12 +77,19 @@ struct HostAllocator {
 struct MeshState {
     MeshState(std::shared_ptr<const ContextState> context, mesh::HostMesh host,
               deform::RestPoses::Pose first)
-        : context(std::move(context)), host(std::move(host)), poses(std::move(first)) {}
+        : context(std::move(context)),
+          host(std::move(host)),
+          poses(std::move(first), this->host.skin, [hooks = this->context->allocator] {
+              return std::allocate_shared<deform::MeshModel>(
+                  HostAllocator<deform::MeshModel>(hooks));
+          }) {}
 
     std::shared_ptr<const ContextState> context;
-    // The host's numbering and the glTF asset, fixed for the mesh's life
-    // (bakes move vertices, never renumber them); see host_numbering.hpp.
+    // The host's numbering, the glTF asset and the skin, fixed for the
+    // mesh's life (bakes move vertices, never renumber them); see
+    // host_numbering.hpp.
     mesh::HostMesh host;
+    // In bind space, shown at the skin's pose when one is set.
     deform::RestPoses poses;
     // Built on the first pick for `scene_model`, refit after a bake or
     // undo; under scene_mutex.

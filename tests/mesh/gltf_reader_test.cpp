@@ -22,7 +22,8 @@ const std::string one_primitive =
 Status read(const std::string& bytes, Mesh& host, mesh::GltfAsset& asset,
             const std::string& selector = "", mesh::LoadReport* report = nullptr) {
     mesh::LoadReport local;
-    return mesh::read_gltf(bytes, "t.glb", nullptr, selector, host, asset,
+    mesh::Skin skin;
+    return mesh::read_gltf(bytes, "t.glb", nullptr, selector, host, asset, skin,
                            report ? *report : local);
 }
 

@@ -31,7 +31,9 @@ Written reread(const std::filesystem::path& path) {
     std::string bytes;
     REQUIRE(mesh::read_file_bytes(path, bytes));
     mesh::LoadReport report;
-    const Status s = mesh::read_gltf(bytes, path.string(), nullptr, "", w.host, w.asset, report);
+    mesh::Skin skin;
+    const Status s =
+        mesh::read_gltf(bytes, path.string(), nullptr, "", w.host, w.asset, skin, report);
     REQUIRE_MESSAGE(s, s.message());
     w.doc = json::parse(w.asset.json);
     return w;
@@ -165,7 +167,7 @@ TEST_CASE("glTF writer: a round trip without an edit keeps every accessor's byte
     CHECK(in.surface.vertex_count() == test::make_icosphere(1).vertex_count());
     for (const char* out_name : {"out.glb", "out.gltf"}) {
         CAPTURE(out_name);
-        REQUIRE(mesh::save_host_mesh(dir / out_name, in.surface, in.host));
+        REQUIRE(mesh::save_host_mesh(dir / out_name, in.surface, in.surface, in.host));
         const Written a = reread(dir / "in.glb");
         const Written b = reread(dir / out_name);
         REQUIRE(a.doc["accessors"].size() == b.doc["accessors"].size());
@@ -189,7 +191,7 @@ TEST_CASE("glTF writer: an edit moves every copy, updates bounds and normals, ke
     Loaded in = load(dir / "in.glb");
     Mesh edited = in.surface;
     lift(edited);
-    REQUIRE(mesh::save_host_mesh(dir / "out.glb", edited, in.host));
+    REQUIRE(mesh::save_host_mesh(dir / "out.glb", edited, edited, in.host));
     const Written a = reread(dir / "in.glb");
     const Written b = reread(dir / "out.glb");
     const mesh::SeamWeld& weld = *in.host.weld;
@@ -241,7 +243,7 @@ TEST_CASE("glTF writer: the edit as a morph target reproduces it at weight 1") {
     lift(edited);
     mesh::WriteOptions options;
     options.morph_target = "lift";
-    REQUIRE(mesh::save_host_mesh(dir / "lift.glb", edited, in.host, options));
+    REQUIRE(mesh::save_host_mesh(dir / "lift.glb", edited, edited, in.host, options));
     const Written a = reread(dir / "in.glb");
     const Written b = reread(dir / "lift.glb");
     CHECK(accessor_bytes(a, 0) == accessor_bytes(b, 0));  // the base stays
@@ -270,7 +272,7 @@ TEST_CASE("glTF writer: the edit as a morph target reproduces it at weight 1") {
     Mesh twice = again.surface;
     for (glm::dvec3& p : twice.positions) p.x += 0.05;
     options.morph_target = "shift";
-    REQUIRE(mesh::save_host_mesh(dir / "shift.glb", twice, again.host, options));
+    REQUIRE(mesh::save_host_mesh(dir / "shift.glb", twice, twice, again.host, options));
     const Written c = reread(dir / "shift.glb");
     CHECK(c.doc["meshes"][0]["primitives"][0]["targets"].size() == 3);
     CHECK(c.doc["meshes"][0]["extras"]["targetNames"] == json::array({"smile", "lift", "shift"}));
@@ -298,7 +300,7 @@ TEST_CASE("glTF writer: sparse positions are written densely, other meshes get a
     CHECK(in.surface.positions[4] == glm::dvec3(1.0, 1.0, 0.5));
     Mesh edited = in.surface;
     edited.positions[0].z = -1.0;
-    REQUIRE(mesh::save_host_mesh(dir / "out.gltf", edited, in.host));
+    REQUIRE(mesh::save_host_mesh(dir / "out.gltf", edited, edited, in.host));
     const Written w = reread(dir / "out.gltf");
     CHECK_FALSE(w.doc["accessors"][0].contains("sparse"));
     CHECK(w.host.positions[0] == glm::dvec3(0, 0, -1));
@@ -316,7 +318,7 @@ TEST_CASE("glTF writer: sparse positions are written densely, other meshes get a
     CHECK(fresh.surface.triangles == sphere.triangles);
     mesh::WriteOptions morph;
     morph.morph_target = "x";
-    const Status s = mesh::save_host_mesh(dir / "fresh2.glb", sphere, {}, morph);
+    const Status s = mesh::save_host_mesh(dir / "fresh2.glb", sphere, sphere, {}, morph);
     CHECK(s.code() == Errc::unsupported);
     CHECK_FALSE(std::filesystem::exists(dir / "fresh2.glb"));
 }
@@ -336,7 +338,7 @@ TEST_CASE("glTF writer: an edit in world space goes back through the node's tran
     Loaded in = load(dir / "in.glb");
     Mesh edited = in.surface;
     edited.positions[4] += glm::dvec3(0.0, 1.0, 0.0);  // world up by 1: local up by 1/2
-    REQUIRE(mesh::save_host_mesh(dir / "out.glb", edited, in.host));
+    REQUIRE(mesh::save_host_mesh(dir / "out.glb", edited, edited, in.host));
     const Written a = reread(dir / "in.glb");
     const Written w = reread(dir / "out.glb");
     for (std::size_t v = 0; v < grid.vertex_count(); ++v) {

@@ -553,7 +553,8 @@ TEST_CASE("dualform deform: a glTF mesh by #mesh=, written back and as a morph t
     dfm::mesh::Mesh raw;
     dfm::mesh::GltfAsset asset;
     dfm::mesh::LoadReport loaded;
-    REQUIRE(dfm::mesh::read_gltf(written, "bent.glb", nullptr, "limb", raw, asset, loaded));
+    dfm::mesh::Skin skin;
+    REQUIRE(dfm::mesh::read_gltf(written, "bent.glb", nullptr, "limb", raw, asset, skin, loaded));
     CHECK(raw.positions[tip].x > 0.1);
     for (std::uint32_t v = 0; v < limb.vertex_count(); ++v) {
         if (limb.positions[v] == limb.positions[tip]) CHECK(raw.positions[v] == raw.positions[tip]);
