@@ -13,6 +13,7 @@
 #include "host_numbering.hpp"
 #include "mesh/skin_pose.hpp"
 #include "objects.hpp"
+#include "shared_calls.hpp"
 #include "vec3_arrays.hpp"
 
 using namespace dfm;
@@ -31,6 +32,32 @@ const mesh::Skin* skin_of(const char* fn, const MeshObject& m, dfm_result& r) {
 }
 
 }  // namespace
+
+namespace dfm::sdk {
+
+void log_damped_corrective(const MeshState& mesh, const char* fn) {
+    if (!mesh.poses.skin_pose()) return;
+    const mesh::CorrectiveReport corrective = mesh.poses.last_corrective();
+    if (corrective.damped.empty()) return;
+    const HostNumbering numbering(mesh, mesh.poses.skin()->vertex_count());
+    std::string list;
+    constexpr std::size_t named = 20;
+    for (std::size_t i = 0; i < corrective.damped.size() && i < named; ++i) {
+        list += (i ? ", " : "") + std::to_string(numbering.to_host(corrective.damped[i]));
+    }
+    if (corrective.damped.size() > named) list += ", ...";
+    std::string condition = std::to_string(corrective.worst_condition);
+    mesh.context->emit(DFM_LOG_WARNING, DFM_LOG_ID_CORRECTIVE_DAMPED,
+                       std::string(fn) + ": " + std::to_string(corrective.damped.size()) +
+                           " vertices moved where their skinning is ill-conditioned (condition "
+                           "number up to " +
+                           condition +
+                           "); their bind-space corrective is damped, so the pose meets the edit "
+                           "only approximately there: vertices " +
+                           list);
+}
+
+}  // namespace dfm::sdk
 
 extern "C" DFM_API dfm_result dfm_mesh_get_skin_info(const dfm_mesh* mesh, dfm_skin_info* out) {
     constexpr const char* fn = "dfm_mesh_get_skin_info";
