@@ -195,3 +195,31 @@ def test_posed_edit_saved_as_corrective_matches_the_static_edit(name, animation,
     else:
         assert shown < 1e-5
         assert blender_error < 1e-5
+
+
+def test_a_corrective_widens_the_animations_that_drive_morph_weights(tmp_path):
+    """The seed asset's animation drives its morph target's weight: a saved
+    corrective adds a target, and the animation's weights output gains a 0
+    column for it, a new accessor; the old one stays as it was."""
+    subprocess.run(["/usr/bin/python3", str(HERE.parent / "make_fuzz_seed.py"), str(tmp_path)],
+                   check=True)
+    glb = tmp_path / "skinned.glb"
+    asset = gs.load(str(glb))
+    scenario = {"mesh": str(glb), "pose": {"animation": "Bend", "time": 0.25},
+                "roi": {"all": True}, "handles": [{"vertices": [7], "translate": [0.0, 0.0, 0.1]}]}
+    (tmp_path / "s.json").write_text(json.dumps(scenario))
+    report = run("deform", str(tmp_path / "s.json"), "--out", str(tmp_path / "out.glb"),
+                 "--morph-target", CORRECTIVE)
+    assert report["corrective"]["vertices"] > 0
+    saved = gs.load(str(tmp_path / "out.glb"))
+    old_sampler = asset.gltf["animations"][0]["samplers"][3]
+    new_sampler = saved.gltf["animations"][0]["samplers"][3]
+    assert new_sampler["output"] != old_sampler["output"]
+    widened = gs.read_accessor(saved, new_sampler["output"]).reshape(-1)
+    old = gs.read_accessor(asset, old_sampler["output"]).reshape(-1)
+    assert widened.tolist() == [old[0], 0.0, old[1], 0.0]
+    assert saved.gltf["accessors"][old_sampler["output"]] == asset.gltf["accessors"][old_sampler["output"]]
+    assert len(saved.gltf["meshes"][0]["primitives"][0]["targets"]) == 2
+    validated = subprocess.run(["node", os.environ["DUALFORM_GLTF_VALIDATE"],
+                                str(tmp_path / "out.glb")], capture_output=True, text=True)
+    assert validated.returncode == 0, validated.stdout + validated.stderr
