@@ -18,10 +18,9 @@ import numpy as np
 from gltf_writer import GltfWriter
 
 
-def main() -> None:
-    if len(sys.argv) != 2:
-        sys.exit(__doc__)
-    out = Path(sys.argv[1])
+def skinned_strip(joint_override=None, weights_scale=1.0) -> GltfWriter:
+    """The asset; `joint_override` (vertex, joint) and `weights_scale` make
+    the malformed variants of tests/data/malformed."""
     rows = 4
     positions = np.array([(x, y, 0.0) for y in range(rows) for x in (0.0, 1.0)], np.float32)
     triangles = []
@@ -36,6 +35,10 @@ def main() -> None:
     weights1 = np.array([(16384, 0, 0, 0)] * len(positions), np.uint16)
     quarter = np.float32(16384 / 65535)
     weights0 = np.array([(np.float32(1) - quarter, 0.0, 0.0, 0.0)] * len(positions), np.float32)
+    if joint_override is not None:
+        joints0[joint_override[0], 0] = joint_override[1]
+    weights0 *= np.float32(weights_scale)
+    weights1 = (weights1 * weights_scale).astype(np.uint16)
     inverse_bind = np.array([np.eye(4)] * 3, np.float32)
     for j in range(3):
         inverse_bind[j][1, 3] = -float(j)
@@ -81,8 +84,17 @@ def main() -> None:
                                      {"sampler": 2, "target": {"node": 3, "path": "scale"}},
                                      {"sampler": 3, "target": {"node": 0, "path": "weights"}}]}],
     })
+    return w
+
+
+def main() -> None:
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    out = Path(sys.argv[1])
+    w = skinned_strip()
     w.write_glb(out / "skinned.glb")
     w.write_gltf(out / "skinned.gltf")
 
 
-main()
+if __name__ == "__main__":
+    main()
