@@ -90,8 +90,7 @@ std::vector<std::uint32_t> tolerance_classes(std::span<const glm::dvec3> p, doub
 // Splits each position class by the vertices' attribute classes; returns
 // whether any split. Ties in the position class meet in the sort, so each
 // class is one run of `order`.
-bool refine_classes(std::vector<std::uint32_t>& cls,
-                           std::span<const std::uint32_t> attributes) {
+bool refine_classes(std::vector<std::uint32_t>& cls, std::span<const std::uint32_t> attributes) {
     std::vector<std::uint32_t> order(cls.size());
     std::iota(order.begin(), order.end(), std::uint32_t{0});
     std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
@@ -122,11 +121,10 @@ struct FaceEdge {
     std::uint32_t host_lo, host_hi;
 };
 
-// Joins the copies that faces connect: the two ends of every geometric
-// edge (between position classes) that exactly two faces use. More would be
-// a non-manifold edge, left split.
-void join_copies(std::span<const Triangle> host_triangles, const std::vector<std::uint32_t>& cls,
-                 DisjointSets& copies) {
+// Every face's edge between two position classes, sorted so that the
+// faces on one geometric edge lie together.
+std::vector<FaceEdge> geometric_edges(std::span<const Triangle> host_triangles,
+                                      const std::vector<std::uint32_t>& cls) {
     std::vector<FaceEdge> edges;
     edges.reserve(3 * host_triangles.size());
     for (const Triangle& t : host_triangles) {
@@ -141,56 +139,45 @@ void join_copies(std::span<const Triangle> host_triangles, const std::vector<std
     std::sort(edges.begin(), edges.end(), [](const FaceEdge& x, const FaceEdge& y) {
         return std::tie(x.lo, x.hi) < std::tie(y.lo, y.hi);
     });
+    return edges;
+}
+
+// Calls `pair(first, second)` for the two faces' edges of every geometric
+// edge that exactly two faces use: the two sides of one surface edge. More
+// would be a non-manifold edge, left split.
+template <class Pair>
+void for_each_surface_edge(const std::vector<FaceEdge>& edges, Pair&& pair) {
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i + 1;
         while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) {
             ++j;
         }
-        if (j - i == 2) {
-            copies.join(edges[i].host_lo, edges[i + 1].host_lo);
-            copies.join(edges[i].host_hi, edges[i + 1].host_hi);
-        }
+        if (j - i == 2) pair(edges[i], edges[i + 1]);
         i = j;
     }
 }
 
-// The positions where faces connect two copies (the two sides of a surface
-// edge, by position alone) whose attribute classes differ: the seams the
-// attributes keep open.
+// Joins the copies at the two ends of every surface edge.
+void join_copies(std::span<const Triangle> host_triangles, const std::vector<std::uint32_t>& cls,
+                 DisjointSets& copies) {
+    for_each_surface_edge(geometric_edges(host_triangles, cls),
+                          [&](const FaceEdge& a, const FaceEdge& b) {
+                              copies.join(a.host_lo, b.host_lo);
+                              copies.join(a.host_hi, b.host_hi);
+                          });
+}
+
+// The positions where a surface edge (by position alone) has copies whose
+// attribute classes differ at an end: the seams the attributes keep open.
 std::size_t count_kept_apart(std::span<const Triangle> host_triangles,
                              const std::vector<std::uint32_t>& by_position,
                              std::span<const std::uint32_t> attributes) {
-    std::vector<FaceEdge> edges;
-    edges.reserve(3 * host_triangles.size());
-    for (const Triangle& t : host_triangles) {
-        for (int c = 0; c < 3; ++c) {
-            const std::uint32_t a = t[c];
-            const std::uint32_t b = t[(c + 1) % 3];
-            if (by_position[a] == by_position[b]) continue;
-            edges.push_back(by_position[a] < by_position[b]
-                                ? FaceEdge{by_position[a], by_position[b], a, b}
-                                : FaceEdge{by_position[b], by_position[a], b, a});
-        }
-    }
-    std::sort(edges.begin(), edges.end(), [](const FaceEdge& x, const FaceEdge& y) {
-        return std::tie(x.lo, x.hi) < std::tie(y.lo, y.hi);
-    });
     std::vector<bool> open(by_position.size(), false);
-    for (std::size_t i = 0; i < edges.size();) {
-        std::size_t j = i + 1;
-        while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) {
-            ++j;
-        }
-        if (j - i == 2) {
-            if (attributes[edges[i].host_lo] != attributes[edges[i + 1].host_lo]) {
-                open[edges[i].lo] = true;
-            }
-            if (attributes[edges[i].host_hi] != attributes[edges[i + 1].host_hi]) {
-                open[edges[i].hi] = true;
-            }
-        }
-        i = j;
-    }
+    for_each_surface_edge(geometric_edges(host_triangles, by_position),
+                          [&](const FaceEdge& a, const FaceEdge& b) {
+                              if (attributes[a.host_lo] != attributes[b.host_lo]) open[a.lo] = true;
+                              if (attributes[a.host_hi] != attributes[b.host_hi]) open[a.hi] = true;
+                          });
     return static_cast<std::size_t>(std::count(open.begin(), open.end(), true));
 }
 
