@@ -11,7 +11,7 @@ constexpr double pi = 3.14159265358979323846;
 
 constexpr int segments = 48;    // vertices around each ring
 constexpr int tube_rings = 96;  // rings from shoulder to wrist
-constexpr int cap_rings = 8;    // rings of each round end, its pole apart
+constexpr int cap_rings = 8;    // each round end: cap_rings - 1 rings and a pole
 constexpr double shoulder_radius = 0.2;
 constexpr double wrist_radius = 0.14;
 constexpr double blend_half_width = 0.2;  // the weights blend over elbow +- this

@@ -12,7 +12,8 @@ namespace {
 // the arm (in the bind pose), past the weights' blend zone, so that its
 // fixed border is skinned rigidly.
 constexpr double region_half_length = 0.3;
-// Its handles: the edge loops at these distances from the elbow.
+// Its handles: the edge loops at these distances from the elbow (the tube
+// has one every 1/48 along the arm).
 constexpr double loop_offsets[] = {-0.1875, -0.125, -0.0625, 0.0, 0.0625, 0.125, 0.1875};
 
 bool ok(dfm_result result, const char* call) {
