@@ -58,9 +58,10 @@ class Mesh(Handle):
         acting on column vectors (M @ [x, y, z, 1]). Posed at joint world
         matrices J_j (:meth:`set_pose_joints`), vertex v shows at
         sum_k w_vk J[j_vk] inverse_bind[j_vk] p_v. Copies are welded only
-        where their skins agree. A negative or non-finite weight, weights
-        summing to 0 or a joint index of J or more raise
-        :class:`InvalidArgumentError` naming the vertex and slot."""
+        where their skins agree. A negative or non-finite weight or weights
+        summing to 0 raise :class:`NumericalError`, a joint index of J or
+        more :class:`OutOfRangeError`, each naming the vertex and slot; an
+        inverse bind matrix that is not invertible :class:`NumericalError`."""
         pos_in, _kept = _arrays.vec3_input(positions, "positions")
         tri = _arrays.index_array(triangles, "triangles", columns=3)
         skin, _skin_kept = _skin.skin_input(pos_in.count, joints, weights, inverse_bind_matrices)
