@@ -510,8 +510,9 @@ DFM_API dfm_result dfm_mesh_redo_bake(dfm_mesh* mesh);
  * vertex's bind position moves by d = L_v^-1 D', D' its posed displacement
  * and L_v the 3x3 part of sum_k w_vk J[j_vk] inverse_bind[j_vk], so that
  * skinning the bind shape at that pose gives the edited shape (to rounding);
- * where L_v is ill-conditioned (condition number above 1e3: cancelling
- * weights, collapsed joints) a damped inverse is used and the bake logs
+ * where L_v is ill-conditioned (it shrinks a direction below a thousandth
+ * of the larger of 1 and its largest singular value: cancelling weights, a
+ * collapsed joint) a damped inverse is used and the bake logs
  * DFM_LOG_ID_CORRECTIVE_DAMPED naming the vertices. The bake history is in
  * bind space; undo and redo show it at the current pose. A save writes the
  * bind space into a glTF asset (its positions, or the corrective as a morph
@@ -529,8 +530,8 @@ typedef struct dfm_skin_info {
     bool posed;                  /* a pose is set */
     int32_t pose_animation;      /* the pose's animation, or -1: joint matrices, or none */
     double pose_time;            /* the pose's time in seconds, as clamped */
-    /* The last bake (or dfm_mesh_set_positions) in a pose: the vertices it
-     * moved, */
+    /* The last bake (or dfm_mesh_set_positions) in a pose (all 0 before
+     * one): the vertices it moved, */
     size_t corrective_vertex_count;
     double corrective_worst_condition; /* the largest condition number of their L_v, */
     size_t corrective_damped_count;    /* and how many took the damped inverse */
