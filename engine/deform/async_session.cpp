@@ -262,7 +262,6 @@ void AsyncSession::finish_set_up(const Status& status, const SetupReport* report
     std::uint64_t generation = 0;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        preparing_ = false;
         setup_status_ = status;
         if (report != nullptr) setup_report_ = *report;
         generation = first_generation_;
@@ -272,7 +271,7 @@ void AsyncSession::finish_set_up(const Status& status, const SetupReport* report
             has_queued_ = false;
         }
     }
-    publish(generation, SolveReport{.converged = status.is_ok()}, status.code(), false);
+    publish(generation, SolveReport{.converged = status.is_ok()}, status.code(), false, true);
 }
 
 jobs::Task::Outcome AsyncSession::run(const Slice& slice) {
@@ -426,13 +425,13 @@ std::span<const glm::dvec3> AsyncSession::current_positions() const {
 }
 
 void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, Errc status,
-                           bool partial) {
+                           bool partial, bool ends_set_up) {
     int slot = 0;
     bool preparing = false;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         while (slot == front_ || slot == finished_ || slot == reading_ || slot == held_) ++slot;
-        preparing = preparing_;
+        preparing = preparing_ && !ends_set_up;
     }
     Frame& frame = frames_[slot];
     // Already sized by the set-up (no allocation) unless it ran out of memory.
@@ -442,6 +441,8 @@ void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, 
     {
         std::lock_guard<std::mutex> lock(mutex_);
         front_ = slot;
+        // A waiter that sees the set-up ended finds its frame published.
+        if (ends_set_up) preparing_ = false;
         newest_generation_ = generation;
         if (!partial) {
             finished_ = slot;

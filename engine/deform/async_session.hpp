@@ -136,7 +136,8 @@ public:
     // solve to end.
     Status set_stopping_rule(double tolerance, int max_iterations);
 
-    // Whether the set-up still runs, and how it ended once it has.
+    // Whether the set-up still runs (false once the frame that ends it is
+    // published), and how it ended once it has.
     bool preparing() const;
     Status setup_status() const;
 
@@ -234,7 +235,11 @@ private:
                            jobs::Clock::time_point deadline, bool resume);
     // The session's positions, or the rest pose before a set-up.
     std::span<const glm::dvec3> current_positions() const;
-    void publish(std::uint64_t generation, const SolveReport& report, Errc status, bool partial);
+    // Publishes the session's current positions as the newest frame; with
+    // `ends_set_up`, the frame that ends the set-up, which preparing()
+    // turns false with.
+    void publish(std::uint64_t generation, const SolveReport& report, Errc status, bool partial,
+                 bool ends_set_up = false);
     // Sizes a slot's arrays for the ROI and (once built) the normals.
     void size_frame(Frame& frame) const;
     // Fills a sized slot from the session's current positions.
