@@ -50,7 +50,7 @@ Status AsyncSession::create(const MeshModel& model, std::span<const std::uint32_
         s->newest_finished_ = start.first_generation;
         s->on_frame_ = std::move(start.on_frame);
         s->record_memory();
-        if (!scheduler.post(*s)) {
+        if (scheduler.closed()) {
             // Never started: nothing to report to on_frame.
             s->set_up_ran_ = true;
             return Status(Errc::cancelled,
@@ -61,6 +61,12 @@ Status AsyncSession::create(const MeshModel& model, std::span<const std::uint32_
     } catch (const std::bad_alloc&) {
         return Status(Errc::out_of_memory, "out of memory while starting the session");
     }
+}
+
+void AsyncSession::begin() {
+    // Closed since create: the set-up ends as one the closing scheduler
+    // found in line.
+    if (!scheduler_.post(*this)) run(Slice{.closing = true});
 }
 
 AsyncSession::~AsyncSession() {
@@ -84,7 +90,8 @@ AsyncSession::~AsyncSession() {
     }
 }
 
-Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
+Status AsyncSession::submit(std::span<const glm::dvec3> targets,
+                            std::unique_lock<std::mutex>& staging, std::uint64_t& generation) {
     generation = 0;
     std::uint64_t queued = 0;
     {
@@ -95,6 +102,7 @@ Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& 
         queued_generation_ = next_generation_++;
         queued = queued_generation_;
     }
+    staging.unlock();
     if (!scheduler_.post(*this)) {
         std::lock_guard<std::mutex> lock(mutex_);
         if (queued_generation_ == queued) has_queued_ = false;
