@@ -23,29 +23,18 @@ namespace dfm::sdk {
 template <class Desc>
 struct FirstLayout;
 
-template <>
-struct FirstLayout<dfm_context_desc> {
-    static constexpr std::size_t size = DFM_END_OF(dfm_context_desc, job_system);
-};
-template <>
-struct FirstLayout<dfm_mesh_desc> {
-    static constexpr std::size_t size = DFM_END_OF(dfm_mesh_desc, weld_tolerance);
-};
-template <>
-struct FirstLayout<dfm_session_desc> {
-    static constexpr std::size_t size = DFM_END_OF(dfm_session_desc, on_frame_user);
-};
-template <>
-struct FirstLayout<dfm_vertex_output> {
-    static constexpr std::size_t size = DFM_END_OF(dfm_vertex_output, changed_only);
-};
-template <>
-struct FirstLayout<dfm_solve_details> {
-    static constexpr std::size_t size = DFM_END_OF(dfm_solve_details, predicted);
-};
-template <>
-struct FirstLayout<dfm_save_options> {
-    static constexpr std::size_t size = DFM_END_OF(dfm_save_options, morph_target_name);
-};
-
 }  // namespace dfm::sdk
+
+// The table's entry for `type`, whose first layout ends at `last`.
+#define DFM_FIRST_LAYOUT(type, last)                                \
+    template <>                                                     \
+    struct dfm::sdk::FirstLayout<type> {                            \
+        static constexpr std::size_t size = DFM_END_OF(type, last); \
+    }
+
+DFM_FIRST_LAYOUT(dfm_context_desc, job_system);
+DFM_FIRST_LAYOUT(dfm_mesh_desc, weld_tolerance);
+DFM_FIRST_LAYOUT(dfm_session_desc, on_frame_user);
+DFM_FIRST_LAYOUT(dfm_vertex_output, changed_only);
+DFM_FIRST_LAYOUT(dfm_solve_details, predicted);
+DFM_FIRST_LAYOUT(dfm_save_options, morph_target_name);

@@ -7,15 +7,5 @@
 #include "descriptor_layouts.hpp"
 #include "dualform/dualform_vulkan.h"
 
-namespace dfm::sdk {
-
-template <>
-struct FirstLayout<dfm_vk_overlay_desc> {
-    static constexpr std::size_t size = DFM_END_OF(dfm_vk_overlay_desc, user);
-};
-template <>
-struct FirstLayout<dfm_vk_device_info> {
-    static constexpr std::size_t size = DFM_END_OF(dfm_vk_device_info, samples);
-};
-
-}  // namespace dfm::sdk
+DFM_FIRST_LAYOUT(dfm_vk_overlay_desc, user);
+DFM_FIRST_LAYOUT(dfm_vk_device_info, samples);
