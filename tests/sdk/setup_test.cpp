@@ -123,7 +123,7 @@ TEST_CASE("setup: a wait that says the set-up has ended finds the frame that end
     const dfm_handle_group group = {limb.tip.data(), limb.tip.size()};
     const dfm_session_desc desc = limb.desc(&group);
     int early = 0;
-    for (int round = 0; round < 24; ++round) {
+    for (int round = 0; round < 16; ++round) {
         dfm_session* session = nullptr;
         REQUIRE_MESSAGE(dfm_session_create(limb.mesh, &desc, &session) == DFM_OK, last_error());
         dfm_result waited = DFM_ERROR_BUSY;
