@@ -33,7 +33,7 @@ struct FirstLayout;
     }
 
 DFM_FIRST_LAYOUT(dfm_context_desc, job_system);
-DFM_FIRST_LAYOUT(dfm_mesh_desc, weld_tolerance);
+DFM_FIRST_LAYOUT(dfm_mesh_desc, skin);
 DFM_FIRST_LAYOUT(dfm_session_desc, on_frame_user);
 DFM_FIRST_LAYOUT(dfm_vertex_output, changed_only);
 DFM_FIRST_LAYOUT(dfm_solve_details, predicted);

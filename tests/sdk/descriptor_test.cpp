@@ -183,6 +183,7 @@ struct mesh_desc {
     std::size_t index_stride;
     dfm_weld_mode weld;
     double weld_tolerance;
+    dfm_skin_input skin;
 };
 
 struct session_desc {
@@ -252,13 +253,14 @@ TEST_CASE("descriptors: the library's struct_size 0 is each struct's 0.2 layout"
     CHECK_SAME_PLACE(v0_2::context_desc, dfm_context_desc, work_mode);
     CHECK_SAME_PLACE(v0_2::context_desc, dfm_context_desc, job_system);
 
-    CHECK(FirstLayout<dfm_mesh_desc>::size == DFM_END_OF(v0_2::mesh_desc, weld_tolerance));
+    CHECK(FirstLayout<dfm_mesh_desc>::size == DFM_END_OF(v0_2::mesh_desc, skin));
     CHECK_SAME_PLACE(v0_2::mesh_desc, dfm_mesh_desc, positions);
     CHECK_SAME_PLACE(v0_2::mesh_desc, dfm_mesh_desc, indices);
     CHECK_SAME_PLACE(v0_2::mesh_desc, dfm_mesh_desc, triangle_count);
     CHECK_SAME_PLACE(v0_2::mesh_desc, dfm_mesh_desc, index_stride);
     CHECK_SAME_PLACE(v0_2::mesh_desc, dfm_mesh_desc, weld);
     CHECK_SAME_PLACE(v0_2::mesh_desc, dfm_mesh_desc, weld_tolerance);
+    CHECK_SAME_PLACE(v0_2::mesh_desc, dfm_mesh_desc, skin);
 
     CHECK(FirstLayout<dfm_session_desc>::size == DFM_END_OF(v0_2::session_desc, on_frame_user));
     CHECK_SAME_PLACE(v0_2::session_desc, dfm_session_desc, roi);
