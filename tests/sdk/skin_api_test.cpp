@@ -36,9 +36,10 @@ std::vector<glm::dvec3> read_positions(const dfm_mesh* mesh, bool bind = false) 
     return out;
 }
 
-// `name`, a file of its own per test case: CTest runs the cases side by side.
+// `name` is the test case's own: CTest runs the cases side by side, and a
+// scratch folder is made anew by each that asks for it.
 dfm_mesh* load_limb(dfm_context* context, const SkinnedLimb& limb, const char* name) {
-    const auto dir = scratch_dir("skin_api");
+    const auto dir = scratch_dir(std::string("skin_api_") + name);
     write_text(dir / name, limb.glb);
     dfm_mesh* mesh = nullptr;
     REQUIRE_MESSAGE(dfm_mesh_load(context, (dir / name).string().c_str(), &mesh) == DFM_OK,
