@@ -246,7 +246,7 @@ Edit make_edit(const Options& o, const SurfaceMesh& m, const std::vector<Vec>& p
 
 struct Figures {
     double handle_error = 0.0, edge_mean = 0.0, edge_max = 0.0, normal_mean = 0.0;
-    double normal_max = 0.0, arap = 0.0, fixed_move = 0.0;
+    double normal_max = 0.0, arap = 0.0, fixed_move = 0.0, dual_magnitude = 0.0;
     std::size_t flipped = 0, creased = 0, edges = 0, faces = 0;
 };
 
@@ -298,6 +298,53 @@ double arap_energy(const SurfaceMesh& m, const Edit& e, const std::vector<Vec>& 
         }
     }
     return scale > 0.0 ? energy / scale : 0.0;
+}
+
+// Dualform's dual magnitude error (docs/scenarios.md): over the faces that
+// touch the ROI and whose three neighbours' centroids span a plane, the
+// change of |l_f|, l_f = Σ_j w_j c_j − c_f for the rest weights w of the
+// foot of c_f on that plane, from its rest height |h_f|, summed and over
+// the sum of |h_f|. The detail a deformation keeps: a rigid motion keeps
+// every l_f's length.
+double dual_magnitude_error(const SurfaceMesh& m, const Edit& e, const std::vector<Vec>& p,
+                            const std::vector<Vec>& q) {
+    std::vector<Vec> rest(m.number_of_faces()), now(m.number_of_faces());
+    for (auto face : m.faces()) {
+        Vec a = Vec::Zero(), b = Vec::Zero();
+        for (Vertex v : CGAL::vertices_around_face(m.halfedge(face), m)) {
+            a += p[v.idx()];
+            b += q[v.idx()];
+        }
+        rest[face.idx()] = a / 3.0;
+        now[face.idx()] = b / 3.0;
+    }
+    double error = 0.0, sum = 0.0;
+    for (auto face : m.faces()) {
+        bool touches = false;
+        std::size_t ring[3], k = 0;
+        for (auto h : CGAL::halfedges_around_face(m.halfedge(face), m)) {
+            touches = touches || e.roi[m.target(h).idx()];
+            const auto o = m.opposite(h);
+            if (k < 3 && !m.is_border(o)) ring[k++] = m.face(o).idx();
+        }
+        if (!touches || k < 3) continue;
+        const std::size_t f = face.idx();
+        const Vec cross = (rest[ring[1]] - rest[ring[0]]).cross(rest[ring[2]] - rest[ring[0]]);
+        const double scale = (rest[ring[1]] - rest[ring[0]]).squaredNorm() +
+                             (rest[ring[2]] - rest[ring[0]]).squaredNorm();
+        if (!(scale > 0.0) || !(cross.norm() > 1e-12 * scale)) continue;
+        const Vec normal = cross.normalized();
+        const double height = (rest[f] - rest[ring[0]]).dot(normal);
+        const Vec foot = rest[f] - height * normal;
+        const double area2 = cross.dot(normal);
+        const double w0 = (rest[ring[1]] - foot).cross(rest[ring[2]] - foot).dot(normal) / area2;
+        const double w1 = (rest[ring[2]] - foot).cross(rest[ring[0]] - foot).dot(normal) / area2;
+        const Vec l =
+            w0 * now[ring[0]] + w1 * now[ring[1]] + (1.0 - w0 - w1) * now[ring[2]] - now[f];
+        error += std::abs(l.norm() - std::abs(height));
+        sum += std::abs(height);
+    }
+    return sum > 0.0 ? error / sum : 0.0;
 }
 
 Figures measure(const SurfaceMesh& m, const Edit& e, const std::vector<Vec>& p,
@@ -352,6 +399,7 @@ Figures measure(const SurfaceMesh& m, const Edit& e, const std::vector<Vec>& p,
         if (std::abs(turn) > 0.5 * std::numbers::pi) ++f.creased;
     }
     f.arap = arap_energy(m, e, p, q);
+    f.dual_magnitude = dual_magnitude_error(m, e, p, q);
     return f;
 }
 
@@ -453,11 +501,12 @@ int main(int argc, char** argv) {
             "\"edge_log_mean\":%.5f,\"edge_log_max\":%.4f,\"normal_dev_mean_deg\":%.3f,"
             "\"normal_dev_max_deg\":%.2f,\"n_flipped\":%zu,\"n_creased\":%zu,\"arap_energy_rel\":%."
             "5g,"
-            "\"fixed_disp_max\":%.3g,\"n_roi_edges\":%zu,\"n_roi_faces\":%zu}\n",
+            "\"dual_magnitude_error\":%.5f,\"fixed_disp_max\":%.3g,\"n_roi_edges\":%zu,"
+            "\"n_roi_faces\":%zu}\n",
             engine.c_str(), run.iterations, run.last_update, run.ms, count(e.roi), count(e.handle),
             count(e.fixed) - (p.size() - count(e.roi)), f.handle_error, f.edge_mean, f.edge_max,
-            f.normal_mean, f.normal_max, f.flipped, f.creased, f.arap, f.fixed_move, f.edges,
-            f.faces);
+            f.normal_mean, f.normal_max, f.flipped, f.creased, f.arap, f.dual_magnitude,
+            f.fixed_move, f.edges, f.faces);
         return 0;
     } catch (const std::exception& x) {
         std::fprintf(stderr, "dualform_cgal_peer: %s\n", x.what());
