@@ -85,7 +85,9 @@ double balanced_rigidity_weight(std::size_t unknowns);
 // field (rotation_clusters.hpp); the rest is the row's own fit. Half and
 // half kept the limbs' bends and twists within a few percent of the rows'
 // own rotations while the whole armadillo converged in half the iterations
-// and compressive pushes folded far less (docs/method.md).
+// and compressive pushes folded far less. θ is a term of the energy, not an
+// accelerator: the fixed point depends on it, and at θ = 0 the pushes'
+// minimisers fold (docs/method.md, "What the iteration converges to").
 inline constexpr double coarse_share = 0.5;
 
 // The clusters of the coarse rotation field over the dual rows of `rows`
