@@ -70,7 +70,7 @@ public:
         while (true) {
             bool null_record = false;
             std::uint32_t node = no_index;
-            if (Status s = read_node(at, b_.size(), 1, no_index, "", node, null_record); !s) {
+            if (Status s = read_node(at, b_.size(), 1, no_index, node, null_record); !s) {
                 return s;
             }
             if (null_record) {
@@ -88,18 +88,27 @@ private:
             .parse_error(path.empty() ? what : "node " + path + ": " + what);
     }
 
+    // A node's path for a message, from its parent's (built only then).
+    std::string path_of(std::uint32_t parent, std::string_view name) const {
+        const std::string own = printable(name);
+        return parent == no_index ? own : doc_.path(doc_.nodes[parent]) + "/" + own;
+    }
+
     // Reads the node record at `at`, which must end by `limit`.
     Status read_node(std::size_t at, std::size_t limit, std::size_t depth, std::uint32_t parent,
-                     const std::string& parent_path, std::uint32_t& out, bool& null_record) {
+                     std::uint32_t& out, bool& null_record) {
         null_record = false;
+        const auto parent_path = [&] {
+            return parent == no_index ? std::string() : doc_.path(doc_.nodes[parent]);
+        };
         if (limit - at < header_) {
             if (limit == b_.size()) {
-                return error(at, parent_path,
+                return error(at, parent_path(),
                              "truncated: the file ends " + std::to_string(limit - at) +
                                  " bytes into a node header of " + std::to_string(header_) +
                                  (parent == no_index ? " (no top-level null record)" : ""));
             }
-            return error(at, parent_path,
+            return error(at, parent_path(),
                          "a node header of " + std::to_string(header_) +
                              " bytes does not fit before its parent's end at byte " +
                              std::to_string(limit));
@@ -111,7 +120,7 @@ private:
         const std::size_t name_length = static_cast<unsigned char>(b_[at + 3 * w]);
         if (end == 0) {
             if (count != 0 || length != 0 || name_length != 0) {
-                return error(at, parent_path,
+                return error(at, parent_path(),
                              "a null record (end offset 0) with a non-zero header");
             }
             null_record = true;
@@ -119,9 +128,9 @@ private:
         }
         const std::string_view name(b_.data() + at + header_,
                                     std::min<std::size_t>(name_length, limit - at - header_));
-        const std::string path = (parent_path.empty() ? "" : parent_path + "/") + printable(name);
+        const auto path = [&] { return path_of(parent, name); };
         if (end <= at || end > limit) {
-            return error(at, path,
+            return error(at, path(),
                          "its record ends at byte " + std::to_string(end) + ", " +
                              (end <= at ? "before it starts"
                                         : "past " +
@@ -130,18 +139,18 @@ private:
                                               " at byte " + std::to_string(limit)));
         }
         if (depth > fbx_max_depth) {
-            return error(at, path,
+            return error(at, path(),
                          "nodes nest deeper than " + std::to_string(fbx_max_depth) + " levels");
         }
         const std::size_t props_begin = at + header_ + name_length;
         if (props_begin > end || length > end - props_begin) {
-            return error(at, path,
+            return error(at, path(),
                          "its name and property list (" + std::to_string(length) +
                              " bytes) run past its record's end at byte " + std::to_string(end));
         }
         // Each property takes at least two bytes.
         if (count > length / 2) {
-            return error(at, path,
+            return error(at, path(),
                          std::to_string(count) + " properties cannot fit in " +
                              std::to_string(length) + " bytes");
         }
@@ -155,10 +164,10 @@ private:
         node.property_count = static_cast<std::uint32_t>(count);
         std::size_t p = props_begin;
         for (std::uint64_t i = 0; i < count; ++i) {
-            if (Status s = read_property(p, node.properties_end, path, i); !s) return s;
+            if (Status s = read_property(p, node.properties_end, parent, name, i); !s) return s;
         }
         if (p != node.properties_end) {
-            return error(p, path,
+            return error(p, path(),
                          "its " + std::to_string(count) + " properties end " +
                              std::to_string(node.properties_end - p) +
                              " bytes before the declared property list length");
@@ -170,7 +179,7 @@ private:
         const std::size_t record_end = doc_.nodes[index].end;
         if (properties_end == record_end) return Status::ok();
         if (record_end - properties_end < header_) {
-            return error(properties_end, path,
+            return error(properties_end, path(),
                          std::to_string(record_end - properties_end) +
                              " bytes after its properties, too few for a nested list's null "
                              "record");
@@ -180,82 +189,84 @@ private:
         while (c < list_end) {
             std::uint32_t child = no_index;
             bool child_null = false;
-            if (Status s = read_node(c, list_end, depth + 1, index, path, child, child_null); !s) {
+            if (Status s = read_node(c, list_end, depth + 1, index, child, child_null); !s) {
                 return s;
             }
             if (child_null) {
-                return error(c, path, "a null record inside its nested list, before its end");
+                return error(c, path(), "a null record inside its nested list, before its end");
             }
             doc_.nodes[index].children.push_back(child);
             c = doc_.nodes[child].end;
         }
         for (std::size_t i = list_end; i < record_end; ++i) {
             if (b_[i] != 0) {
-                return error(list_end, path, "its nested list does not end with a null record");
+                return error(list_end, path(), "its nested list does not end with a null record");
             }
         }
         doc_.nodes[index].null_record = true;
         return Status::ok();
     }
 
-    Status read_property(std::size_t& p, std::size_t limit, const std::string& path,
-                         std::uint64_t i) {
-        const std::string which = "property " + std::to_string(i);
-        if (p >= limit) return error(p, path, which + ": past the property list's end");
+    Status read_property(std::size_t& p, std::size_t limit, std::uint32_t parent,
+                         std::string_view name, std::uint64_t i) {
+        const auto path = [&] { return path_of(parent, name); };
+        const auto which = [&] { return "property " + std::to_string(i); };
+        if (p >= limit) return error(p, path(), which() + ": past the property list's end");
         const char type = b_[p];
         FbxProperty prop;
         prop.type = type;
         prop.begin = p + 1;
         const std::size_t left = limit - prop.begin;
         if (const std::size_t width = scalar_width(type); width != 0) {
-            if (left < width) return error(p, path, which + ": truncated value");
+            if (left < width) return error(p, path(), which() + ": truncated value");
             prop.end = prop.begin + width;
         } else if (type == 'S' || type == 'R') {
-            if (left < 4) return error(p, path, which + ": truncated length");
+            if (left < 4) return error(p, path(), which() + ": truncated length");
             const std::uint64_t n = read_le(b_, prop.begin, 4);
             if (n > left - 4) {
-                return error(p, path,
-                             which + ": a " + std::to_string(n) + "-byte " +
+                return error(p, path(),
+                             which() + ": a " + std::to_string(n) + "-byte " +
                                  (type == 'S' ? "string" : "raw value") + " runs past the " +
                                  std::to_string(left - 4) + " bytes left");
             }
             prop.end = prop.begin + 4 + static_cast<std::size_t>(n);
         } else if (const std::size_t width = array_width(type); width != 0) {
-            if (left < 12) return error(p, path, which + ": truncated array header");
+            if (left < 12) return error(p, path(), which() + ": truncated array header");
             const std::uint64_t n = read_le(b_, prop.begin, 4);
             const std::uint64_t encoding = read_le(b_, prop.begin + 4, 4);
             const std::uint64_t stored = read_le(b_, prop.begin + 8, 4);
             if (stored > left - 12) {
-                return error(p, path,
-                             which + ": an array of " + std::to_string(stored) +
+                return error(p, path(),
+                             which() + ": an array of " + std::to_string(stored) +
                                  " stored bytes runs past the " + std::to_string(left - 12) +
                                  " bytes left");
             }
             const std::uint64_t bytes = n * width;
             if (encoding == 0 && stored != bytes) {
-                return error(p, path,
-                             which + ": an array of " + std::to_string(n) + " elements of " +
+                return error(p, path(),
+                             which() + ": an array of " + std::to_string(n) + " elements of " +
                                  std::to_string(width) + " bytes stored in " +
                                  std::to_string(stored) + " bytes");
             }
             if (encoding == 1 && bytes > stored * max_inflate_ratio) {
-                return error(p, path,
-                             which + ": an array of " + std::to_string(n) +
+                return error(p, path(),
+                             which() + ": an array of " + std::to_string(n) +
                                  " elements cannot inflate from " + std::to_string(stored) +
                                  " compressed bytes");
             }
             if (encoding > 1) {
-                return error(p, path,
-                             which + ": unknown array encoding " + std::to_string(encoding));
+                return error(p, path(),
+                             which() + ": unknown array encoding " + std::to_string(encoding));
             }
             prop.count = static_cast<std::uint32_t>(n);
             prop.encoding = static_cast<std::uint32_t>(encoding);
             prop.end = prop.begin + 12 + static_cast<std::size_t>(stored);
         } else {
-            return error(p, path,
-                         which + ": unknown type code 0x" +
-                             std::to_string(static_cast<unsigned char>(type)) + " ('" +
-                             printable(std::string_view(&type, 1)) + "')");
+            static constexpr char hex[] = "0123456789abcdef";
+            const auto code = static_cast<unsigned char>(type);
+            return error(p, path(),
+                         which() + ": unknown type code 0x" + hex[code >> 4] + hex[code & 15] +
+                             " ('" + printable(std::string_view(&type, 1)) + "')");
         }
         doc_.properties.push_back(prop);
         p = prop.end;

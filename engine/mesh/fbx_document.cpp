@@ -21,9 +21,13 @@ std::string FbxDocument::path(const FbxNode& node) const {
     for (std::uint32_t at = index_of(node); at != no_index; at = nodes[at].parent) {
         names.push_back(nodes[at].name);
     }
+    // A deep path shows its first and last three names.
+    const bool elided = names.size() > 8;
+    if (elided) names.erase(names.begin() + 3, names.end() - 3);
     std::string out;
     for (auto it = names.rbegin(); it != names.rend(); ++it) {
         if (!out.empty()) out += '/';
+        if (elided && it == names.rbegin() + 3) out += ".../";
         for (char c : *it) out += (c >= 0x20 && c < 0x7f) ? c : '?';
     }
     return out;

@@ -15,9 +15,6 @@
 // Errc::unsupported.
 namespace dfm::mesh {
 
-// Whether this build reads and writes FBX.
-bool fbx_supported();
-
 // read_fbx (fbx_io.hpp), then the control points welded (weld_fbx);
 // `host` receives the weld, the asset and the skin.
 Status load_fbx_host(std::string bytes, std::string_view source, const WeldOptions& weld,

@@ -47,7 +47,7 @@ Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view so
 std::optional<FileFormat> format_from_extension(const std::filesystem::path& path);
 std::optional<FileFormat> format_from_content(std::string_view head);
 
-// Whether this build reads and writes FBX (DUALFORM_FBX: Assimp was found).
+// Whether this build reads and writes FBX (DUALFORM_FBX: built with Assimp).
 bool fbx_supported();
 
 // A file's whole contents; the status names the file and what failed.
