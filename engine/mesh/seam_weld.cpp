@@ -88,10 +88,9 @@ std::vector<std::uint32_t> tolerance_classes(std::span<const glm::dvec3> p, doub
 }
 
 // Splits each position class by the vertices' attribute classes; returns
-// how many position classes that split. Ties in the position class meet in
-// the sort, so each class is one run of `order`.
-std::size_t refine_classes(std::vector<std::uint32_t>& cls,
-                           std::span<const std::uint32_t> attributes) {
+// whether any split. Ties in the position class meet in the sort, so each
+// class is one run of `order`.
+bool refine_classes(std::vector<std::uint32_t>& cls, std::span<const std::uint32_t> attributes) {
     std::vector<std::uint32_t> order(cls.size());
     std::iota(order.begin(), order.end(), std::uint32_t{0});
     std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
@@ -99,7 +98,7 @@ std::size_t refine_classes(std::vector<std::uint32_t>& cls,
     });
     std::vector<std::uint32_t> refined(cls.size());
     std::uint32_t next = 0;
-    std::size_t split = 0;
+    bool split = false;
     for (std::size_t begin = 0; begin < order.size();) {
         std::size_t end = begin + 1;
         while (end < order.size() && cls[order[end]] == cls[order[begin]]) ++end;
@@ -107,7 +106,7 @@ std::size_t refine_classes(std::vector<std::uint32_t>& cls,
             if (i > begin && attributes[order[i]] != attributes[order[i - 1]]) ++next;
             refined[order[i]] = next;
         }
-        if (attributes[order[begin]] != attributes[order[end - 1]]) ++split;
+        if (attributes[order[begin]] != attributes[order[end - 1]]) split = true;
         ++next;
         begin = end;
     }
@@ -122,6 +121,66 @@ struct FaceEdge {
     std::uint32_t host_lo, host_hi;
 };
 
+// Every face's edge between two position classes, sorted so that the
+// faces on one geometric edge lie together.
+std::vector<FaceEdge> geometric_edges(std::span<const Triangle> host_triangles,
+                                      const std::vector<std::uint32_t>& cls) {
+    std::vector<FaceEdge> edges;
+    edges.reserve(3 * host_triangles.size());
+    for (const Triangle& t : host_triangles) {
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t a = t[c];
+            const std::uint32_t b = t[(c + 1) % 3];
+            if (cls[a] == cls[b]) continue;
+            edges.push_back(cls[a] < cls[b] ? FaceEdge{cls[a], cls[b], a, b}
+                                            : FaceEdge{cls[b], cls[a], b, a});
+        }
+    }
+    std::sort(edges.begin(), edges.end(), [](const FaceEdge& x, const FaceEdge& y) {
+        return std::tie(x.lo, x.hi) < std::tie(y.lo, y.hi);
+    });
+    return edges;
+}
+
+// Calls `pair(first, second)` for the two faces' edges of every geometric
+// edge that exactly two faces use: the two sides of one surface edge. More
+// would be a non-manifold edge, left split.
+template <class Pair>
+void for_each_surface_edge(const std::vector<FaceEdge>& edges, Pair&& pair) {
+    for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i + 1;
+        while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) {
+            ++j;
+        }
+        if (j - i == 2) pair(edges[i], edges[i + 1]);
+        i = j;
+    }
+}
+
+// Joins the copies at the two ends of every surface edge.
+void join_copies(std::span<const Triangle> host_triangles, const std::vector<std::uint32_t>& cls,
+                 DisjointSets& copies) {
+    for_each_surface_edge(geometric_edges(host_triangles, cls),
+                          [&](const FaceEdge& a, const FaceEdge& b) {
+                              copies.join(a.host_lo, b.host_lo);
+                              copies.join(a.host_hi, b.host_hi);
+                          });
+}
+
+// The positions where a surface edge (by position alone) has copies whose
+// attribute classes differ at an end: the seams the attributes keep open.
+std::size_t count_kept_apart(std::span<const Triangle> host_triangles,
+                             const std::vector<std::uint32_t>& by_position,
+                             std::span<const std::uint32_t> attributes) {
+    std::vector<bool> open(by_position.size(), false);
+    for_each_surface_edge(geometric_edges(host_triangles, by_position),
+                          [&](const FaceEdge& a, const FaceEdge& b) {
+                              if (attributes[a.host_lo] != attributes[b.host_lo]) open[a.lo] = true;
+                              if (attributes[a.host_hi] != attributes[b.host_hi]) open[a.hi] = true;
+                          });
+    return static_cast<std::size_t>(std::count(open.begin(), open.end(), true));
+}
+
 }  // namespace
 
 void weld_seams(std::span<const glm::dvec3> host_positions,
@@ -135,34 +194,13 @@ void weld_seams(std::span<const glm::dvec3> host_positions,
             options.mode == WeldMode::tolerance && options.tolerance > 0.0
                 ? tolerance_classes(host_positions, options.tolerance)
                 : exact_classes(host_positions);
-        if (!classes.empty()) kept_apart = refine_classes(cls, classes);
-        std::vector<FaceEdge> edges;
-        edges.reserve(3 * host_triangles.size());
-        for (const Triangle& t : host_triangles) {
-            for (int c = 0; c < 3; ++c) {
-                const std::uint32_t a = t[c];
-                const std::uint32_t b = t[(c + 1) % 3];
-                if (cls[a] == cls[b]) continue;
-                edges.push_back(cls[a] < cls[b] ? FaceEdge{cls[a], cls[b], a, b}
-                                                : FaceEdge{cls[b], cls[a], b, a});
+        if (!classes.empty()) {
+            const std::vector<std::uint32_t> by_position = cls;
+            if (refine_classes(cls, classes)) {
+                kept_apart = count_kept_apart(host_triangles, by_position, classes);
             }
         }
-        std::sort(edges.begin(), edges.end(), [](const FaceEdge& x, const FaceEdge& y) {
-            return std::tie(x.lo, x.hi) < std::tie(y.lo, y.hi);
-        });
-        for (std::size_t i = 0; i < edges.size();) {
-            std::size_t j = i + 1;
-            while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) {
-                ++j;
-            }
-            // Exactly two faces on a geometric edge: the two sides of one
-            // surface edge. More would be a non-manifold edge, left split.
-            if (j - i == 2) {
-                copies.join(edges[i].host_lo, edges[i + 1].host_lo);
-                copies.join(edges[i].host_hi, edges[i + 1].host_hi);
-            }
-            i = j;
-        }
+        join_copies(host_triangles, cls, copies);
     }
 
     weld = SeamWeld{};

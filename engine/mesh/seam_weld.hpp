@@ -32,8 +32,9 @@ struct SeamWeld {
     std::vector<std::uint32_t> copies;        // host vertices grouped by surface vertex
     std::vector<Triangle> host_triangles;     // the host's triangles, in its numbering
     std::vector<std::uint32_t> host_face_of;  // surface triangle -> host triangle
-    // Positions whose copies fall in more than one attribute class
-    // (weld_seams' `classes`): copies of different classes stay apart.
+    // Positions where faces connect copies (the two sides of a surface edge)
+    // whose attribute classes differ (weld_seams' `classes`): seams the
+    // attributes keep open.
     std::size_t kept_apart = 0;
 
     std::size_t host_vertex_count() const { return surface_of.size(); }

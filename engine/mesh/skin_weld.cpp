@@ -103,8 +103,8 @@ void weld_skinned(const Mesh& split, const Skin& host_skin, const WeldOptions& o
     };
     if (weld.kept_apart > 0) {
         warn(std::to_string(weld.kept_apart) +
-             " positions have copies whose skins (joints or weights) differ; those copies were "
-             "not welded, and the surface has a seam there");
+             " positions have copies that faces connect but whose skins (joints or weights) "
+             "differ; they were not welded, and the surface has a seam there");
     }
     const std::size_t differing = morph_disagreements(host_skin, weld);
     if (differing > 0) {

@@ -495,7 +495,11 @@ extern "C" DFM_API dfm_result dfm_mesh_set_positions(dfm_mesh* mesh,
         auto posed = std::allocate_shared<deform::MeshModel>(
             HostAllocator<deform::MeshModel>(m->state->context->allocator));
         if (Status s = deform::bake_positions(*model, xyz, *posed); !s) return report(fn, s);
-        return report(fn, m->state->poses.add_step(model, std::move(posed), nullptr));
+        if (Status s = m->state->poses.add_step(model, std::move(posed), nullptr); !s) {
+            return report(fn, s);
+        }
+        log_damped_corrective(*m->state, fn);
+        return DFM_OK;
     });
 }
 

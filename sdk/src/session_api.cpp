@@ -634,7 +634,11 @@ dfm_result bake(const char* fn, dfm_session* session, std::uint64_t generation) 
         MeshState& mesh = *s->mesh;
         auto baked = std::allocate_shared<deform::MeshModel>(
             HostAllocator<deform::MeshModel>(mesh.context->allocator));
-        return report(fn, s->edit->bake(mesh.poses, generation, std::move(baked)));
+        if (Status st = s->edit->bake(mesh.poses, generation, std::move(baked)); !st) {
+            return report(fn, st);
+        }
+        log_damped_corrective(mesh, fn);
+        return DFM_OK;
     });
 }
 

@@ -19,4 +19,9 @@ dfm_result make_mesh_handle(const ContextState& context,
 // The public info of a published frame; nothing when `out` is NULL.
 void fill_frame_info(const deform::Frame& frame, dfm_frame_info* out);
 
+// After a step of the mesh's history in a pose (a bake, new positions):
+// DFM_LOG_ID_CORRECTIVE_DAMPED naming the vertices, in the host's numbering,
+// whose corrective took the damped inverse, if any did. `fn` names the call.
+void log_damped_corrective(const MeshState& mesh, const char* fn);
+
 }  // namespace dfm::sdk

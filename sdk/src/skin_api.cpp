@@ -13,6 +13,7 @@
 #include "host_numbering.hpp"
 #include "mesh/skin_pose.hpp"
 #include "objects.hpp"
+#include "shared_calls.hpp"
 #include "vec3_arrays.hpp"
 
 using namespace dfm;
@@ -30,7 +31,58 @@ const mesh::Skin* skin_of(const char* fn, const MeshObject& m, dfm_result& r) {
     return skin;
 }
 
+// The calls that describe one item of the skin (a joint, an animation, a
+// morph target): their one opening (out, the mesh, its skin, the index
+// within `count(skin)`, named `what` in the message), then `fill`.
+template <class Out, class Count, class Fill>
+dfm_result skin_item(const char* fn, const dfm_mesh* mesh, std::uint32_t index, Out* out,
+                     const char* what, Count&& count, Fill&& fill) {
+    return guarded(fn, [&] {
+        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
+        *out = Out{};
+        MeshObject* m = resolve_mesh(mesh);
+        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
+        dfm_result r = DFM_OK;
+        const mesh::Skin* skin = skin_of(fn, *m, r);
+        if (skin == nullptr) return r;
+        const std::size_t n = count(*skin);
+        if (index >= n) {
+            return report(fn, DFM_ERROR_OUT_OF_RANGE,
+                          std::string(what) + " " + std::to_string(index) +
+                              " does not exist (the mesh has " + std::to_string(n) + ")");
+        }
+        fill(*skin, *out);
+        return DFM_OK;
+    });
+}
+
 }  // namespace
+
+namespace dfm::sdk {
+
+void log_damped_corrective(const MeshState& mesh, const char* fn) {
+    if (!mesh.poses.skin_pose()) return;
+    const mesh::CorrectiveReport corrective = mesh.poses.last_corrective();
+    if (corrective.damped.empty()) return;
+    const HostNumbering numbering(mesh, mesh.poses.skin()->vertex_count());
+    std::string list;
+    constexpr std::size_t named = 20;
+    for (std::size_t i = 0; i < corrective.damped.size() && i < named; ++i) {
+        list += (i ? ", " : "") + std::to_string(numbering.to_host(corrective.damped[i]));
+    }
+    if (corrective.damped.size() > named) list += ", ...";
+    std::string condition = std::to_string(corrective.worst_condition);
+    mesh.context->emit(DFM_LOG_WARNING, DFM_LOG_ID_CORRECTIVE_DAMPED,
+                       std::string(fn) + ": " + std::to_string(corrective.damped.size()) +
+                           " vertices moved where their skinning is ill-conditioned (condition "
+                           "number up to " +
+                           condition +
+                           "); their bind-space corrective is damped, so the pose meets the edit "
+                           "only approximately there: vertices " +
+                           list);
+}
+
+}  // namespace dfm::sdk
 
 extern "C" DFM_API dfm_result dfm_mesh_get_skin_info(const dfm_mesh* mesh, dfm_skin_info* out) {
     constexpr const char* fn = "dfm_mesh_get_skin_info";
@@ -67,69 +119,46 @@ extern "C" DFM_API dfm_result dfm_mesh_get_skin_info(const dfm_mesh* mesh, dfm_s
 
 extern "C" DFM_API dfm_result dfm_mesh_get_joint_info(const dfm_mesh* mesh, uint32_t joint,
                                                       dfm_joint_info* out) {
-    constexpr const char* fn = "dfm_mesh_get_joint_info";
-    return guarded(fn, [&] {
-        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
-        *out = dfm_joint_info{};
-        MeshObject* m = resolve_mesh(mesh);
-        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
-        dfm_result r = DFM_OK;
-        const mesh::Skin* skin = skin_of(fn, *m, r);
-        if (skin == nullptr) return r;
-        if (joint >= skin->joint_count()) {
-            return report(fn, DFM_ERROR_OUT_OF_RANGE,
-                          "joint " + std::to_string(joint) + " does not exist (the skin has " +
-                              std::to_string(skin->joint_count()) + ")");
-        }
-        out->name = skin->joint_names[joint].c_str();
-        out->parent = UINT32_MAX;
-        // The nearest ancestor node that is a joint of the skin.
-        const std::uint32_t node = skin->joint_nodes[joint];
-        if (node == mesh::no_index) return DFM_OK;
-        for (std::uint32_t at = skin->nodes[node].parent; at != mesh::no_index;
-             at = skin->nodes[at].parent) {
-            for (std::size_t j = 0; j < skin->joint_count(); ++j) {
-                if (skin->joint_nodes[j] == at) {
-                    out->parent = static_cast<std::uint32_t>(j);
-                    return DFM_OK;
+    return skin_item(
+        "dfm_mesh_get_joint_info", mesh, joint, out, "joint",
+        [](const mesh::Skin& skin) { return skin.joint_count(); },
+        [&](const mesh::Skin& skin, dfm_joint_info& info) {
+            info.name = skin.joint_names[joint].c_str();
+            info.parent = UINT32_MAX;
+            // The nearest ancestor node that is a joint of the skin.
+            const std::uint32_t node = skin.joint_nodes[joint];
+            if (node == mesh::no_index) return;
+            for (std::uint32_t at = skin.nodes[node].parent; at != mesh::no_index;
+                 at = skin.nodes[at].parent) {
+                for (std::size_t j = 0; j < skin.joint_count(); ++j) {
+                    if (skin.joint_nodes[j] == at) {
+                        info.parent = static_cast<std::uint32_t>(j);
+                        return;
+                    }
                 }
             }
-        }
-        return DFM_OK;
-    });
+        });
 }
 
 extern "C" DFM_API dfm_result dfm_mesh_get_animation_info(const dfm_mesh* mesh, uint32_t animation,
                                                           dfm_animation_info* out) {
-    constexpr const char* fn = "dfm_mesh_get_animation_info";
-    return guarded(fn, [&] {
-        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
-        *out = dfm_animation_info{};
-        MeshObject* m = resolve_mesh(mesh);
-        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
-        dfm_result r = DFM_OK;
-        const mesh::Skin* skin = skin_of(fn, *m, r);
-        if (skin == nullptr) return r;
-        if (animation >= skin->animations.size()) {
-            return report(fn, DFM_ERROR_OUT_OF_RANGE,
-                          "animation " + std::to_string(animation) +
-                              " does not exist (the mesh has " +
-                              std::to_string(skin->animations.size()) + ")");
-        }
-        const mesh::Animation& a = skin->animations[animation];
-        out->name = a.name.c_str();
-        out->start = a.start;
-        out->end = a.end;
-        for (const mesh::AnimationChannel& ch : a.channels) {
-            switch (ch.path) {
-                case mesh::AnimationPath::translation: ++out->translation_channels; break;
-                case mesh::AnimationPath::rotation: ++out->rotation_channels; break;
-                case mesh::AnimationPath::scale: ++out->scale_channels; break;
-                case mesh::AnimationPath::weights: ++out->weight_channels; break;
+    return skin_item(
+        "dfm_mesh_get_animation_info", mesh, animation, out, "animation",
+        [](const mesh::Skin& skin) { return skin.animations.size(); },
+        [&](const mesh::Skin& skin, dfm_animation_info& info) {
+            const mesh::Animation& a = skin.animations[animation];
+            info.name = a.name.c_str();
+            info.start = a.start;
+            info.end = a.end;
+            for (const mesh::AnimationChannel& ch : a.channels) {
+                switch (ch.path) {
+                    case mesh::AnimationPath::translation: ++info.translation_channels; break;
+                    case mesh::AnimationPath::rotation: ++info.rotation_channels; break;
+                    case mesh::AnimationPath::scale: ++info.scale_channels; break;
+                    case mesh::AnimationPath::weights: ++info.weight_channels; break;
+                }
             }
-        }
-        return DFM_OK;
-    });
+        });
 }
 
 extern "C" DFM_API dfm_result dfm_mesh_find_animation(const dfm_mesh* mesh, const char* name,
@@ -163,27 +192,15 @@ extern "C" DFM_API dfm_result dfm_mesh_find_animation(const dfm_mesh* mesh, cons
 
 extern "C" DFM_API dfm_result dfm_mesh_get_morph_target_info(const dfm_mesh* mesh, uint32_t target,
                                                              dfm_morph_target_info* out) {
-    constexpr const char* fn = "dfm_mesh_get_morph_target_info";
-    return guarded(fn, [&] {
-        if (out == nullptr) return report(fn, DFM_ERROR_INVALID_ARGUMENT, "out is NULL");
-        *out = dfm_morph_target_info{};
-        MeshObject* m = resolve_mesh(mesh);
-        if (m == nullptr) return bad_handle(fn, "mesh", mesh);
-        dfm_result r = DFM_OK;
-        const mesh::Skin* skin = skin_of(fn, *m, r);
-        if (skin == nullptr) return r;
-        if (target >= skin->morph_targets.size()) {
-            return report(fn, DFM_ERROR_OUT_OF_RANGE,
-                          "morph target " + std::to_string(target) +
-                              " does not exist (the mesh has " +
-                              std::to_string(skin->morph_targets.size()) + ")");
-        }
-        const mesh::MorphTarget& t = skin->morph_targets[target];
-        out->name = t.name.c_str();
-        out->default_weight = t.default_weight;
-        out->vertex_count = t.vertices.size();
-        return DFM_OK;
-    });
+    return skin_item(
+        "dfm_mesh_get_morph_target_info", mesh, target, out, "morph target",
+        [](const mesh::Skin& skin) { return skin.morph_targets.size(); },
+        [&](const mesh::Skin& skin, dfm_morph_target_info& info) {
+            const mesh::MorphTarget& t = skin.morph_targets[target];
+            info.name = t.name.c_str();
+            info.default_weight = t.default_weight;
+            info.vertex_count = t.vertices.size();
+        });
 }
 
 extern "C" DFM_API dfm_result dfm_mesh_set_pose_animation(dfm_mesh* mesh, uint32_t animation,

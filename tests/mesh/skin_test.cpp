@@ -142,7 +142,7 @@ TEST_CASE("skin: LINEAR, STEP and CUBICSPLINE channels sample as glTF says") {
     CHECK(mesh::sample_pose(l.skin, 2, 0.0, pose).code() == Errc::out_of_range);
 }
 
-TEST_CASE("skin: the corrective reproduces a posed edit exactly; the bind-space copy does not") {
+TEST_CASE("skin: the corrective reproduces a posed edit exactly, the bind-space copy does not") {
     const test::SkinnedLimb limb = test::make_skinned_limb(16, 20);
     const Loaded l = read(limb.glb);
     INFO(l.status.message());

@@ -27,6 +27,9 @@
 #              keys: glTF LINEAR; translation, rotation and scale), "Hold"
 #              (constant keys: STEP) and "Sway" (Bezier keys whose handles lie
 #              at a third of each interval: CUBICSPLINE)
+#   humanoid-20k  the same figure and rig from a stick skeleton whose bones are
+#              cut in three before the Skin modifier (20,066 vertices): the
+#              size the pose and bake figures of docs/benchmarks.md are taken at
 #   prop       Suzanne subdivided once (2,012 vertices), her own UVs, no armature
 #   shapekey   a cube subdivided three times (386 vertices), its own UVs, the
 #              shape keys "Bulge" (value 0.0) and "Pinch" (value 0.3)
@@ -403,7 +406,7 @@ def humanoid_bones():
     return bones
 
 
-def humanoid_mesh():
+def humanoid_mesh(cuts):
     names = list(HUMANOID_JOINTS)
     index = {n: i for i, n in enumerate(names)}
     mesh = bpy.data.meshes.new("Body")
@@ -416,6 +419,13 @@ def humanoid_mesh():
     mesh.skin_vertices[0].data[index["hips"]].use_root = True
     for n in names:
         mesh.skin_vertices[0].data[index[n]].radius = HUMANOID_JOINTS[n][1]
+    if cuts:
+        # More rings along every limb (the radii interpolated): a denser body.
+        bm = bmesh.new()
+        bm.from_mesh(mesh)
+        bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=cuts)
+        bm.to_mesh(mesh)
+        bm.free()
     bpy.ops.object.modifier_apply(modifier=skin.name)
     sub = obj.modifiers.new("subdivision", "SUBSURF")
     sub.levels = sub.render_levels = 3
@@ -506,9 +516,9 @@ def sway(rig):
     return action
 
 
-def humanoid(out):
+def humanoid(out, name="humanoid", cuts=0):
     clear_scene()
-    obj = humanoid_mesh()
+    obj = humanoid_mesh(cuts)
     rig = armature_object("HumanRig", humanoid_bones())
     skin_to(obj, rig, 4)
     # The rig (and its child, the body) stands moved and turned in the scene.
@@ -517,7 +527,7 @@ def humanoid(out):
     bpy.context.view_layer.update()
     actions = [walk(rig), hold(rig), sway(rig)]
     frames = {"Walk": [4, 7, 16], "Hold": [10, 13], "Sway": [4, 12, 22]}
-    finish_skinned(out, "humanoid", obj, rig, actions, frames, sampled=False)
+    finish_skinned(out, name, obj, rig, actions, frames, sampled=False)
 
 
 # --- static assets -------------------------------------------------------------
@@ -660,6 +670,7 @@ def main():
     arm(out, "arm", morph=False)
     arm(out, "arm-morph", morph=True)
     humanoid(out)
+    humanoid(out, "humanoid-20k", cuts=2)
     prop(out)
     shapekey(out)
     print("make_rigged_assets: wrote the assets into", out)

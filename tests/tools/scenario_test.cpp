@@ -284,7 +284,7 @@ TEST_CASE("scenario: the top level and mesh") {
                 "handles: required field is missing");
     const std::string unknown = with(any_roi, any_handles, R"(, "mesh_file": "x")");
     check_error(unknown, R"("mesh_file")",
-                "mesh_file: unknown field (expected mesh, subdivide, roi, handles, solver, "
+                "mesh_file: unknown field (expected mesh, subdivide, pose, roi, handles, solver, "
                 "description or comment)");
     check_error(R"({"mesh": 3, "roi": {"all": true}, "handles": [{"vertices": [1]}]})", "3",
                 "mesh: expected a string (a mesh file path or model:NAME), found 3");

@@ -118,6 +118,24 @@ ToolStatus open_scenario_mesh(const Scenario& scenario, ScenarioMesh& out,
         }
         out.mesh.reset(fine);
     }
+    if (scenario.pose) {
+        std::uint32_t animation = scenario.pose->animation_index;
+        if (scenario.pose->animation_name) {
+            if (ToolStatus s = api_status(
+                    dfm_mesh_find_animation(out.mesh.get(), scenario.pose->animation_name->c_str(),
+                                            &animation),
+                    "pose.animation");
+                !s) {
+                return s;
+            }
+        }
+        if (ToolStatus s = api_status(
+                dfm_mesh_set_pose_animation(out.mesh.get(), animation, scenario.pose->time),
+                "pose");
+            !s) {
+            return s;
+        }
+    }
     return refresh_scenario_mesh(out);
 }
 

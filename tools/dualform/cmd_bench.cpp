@@ -1,6 +1,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -29,6 +30,8 @@ namespace dfm::cli {
 namespace {
 
 constexpr int drag_frames = 60;
+
+using Clock = std::chrono::steady_clock;
 
 // The value at fraction q of the sorted values (the nearest rank).
 double at_rank(const std::vector<double>& sorted, double q) {
@@ -126,6 +129,53 @@ ToolStatus set_targets(dfm_session* session, const std::vector<glm::dvec3>& targ
     input.count = targets.size();
     input.type = DFM_SCALAR_FLOAT64;
     return api_status(dfm_session_set_targets(session, &input));
+}
+
+double ms_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Posing a posed scenario's mesh: dfm_mesh_set_pose_animation at times
+// across its animation (100 calls a repeat), the first read after each of
+// `repeat` of them (which builds the posed model), and `repeat` bakes of the
+// drag's last frame (dfm_mesh_set_positions in the pose: the corrective and
+// the models), each undone. The scenario's pose is set again at the end.
+ToolStatus time_pose(const ScenarioMesh& mesh, dfm_session* drag, int repeat,
+                     std::vector<double>& pose_ms, std::vector<double>& posed_model_ms,
+                     std::vector<double>& bake_ms) {
+    dfm_mesh* m = mesh.mesh.get();
+    dfm_skin_info skin = {};
+    if (ToolStatus s = api_status(dfm_mesh_get_skin_info(m, &skin)); !s) return s;
+    const auto animation = static_cast<std::uint32_t>(skin.pose_animation);
+    const double scenario_time = skin.pose_time;
+    dfm_animation_info info = {};
+    if (ToolStatus s = api_status(dfm_mesh_get_animation_info(m, animation, &info)); !s) return s;
+    std::vector<double> positions(3 * mesh.info.vertex_count);
+    dfm_vec3_output out = {positions.data(), mesh.info.vertex_count, 0, DFM_SCALAR_FLOAT64};
+    constexpr int calls = 100;
+    for (int r = 0; r < repeat; ++r) {
+        for (int c = 0; c < calls; ++c) {
+            const double t = info.start + (info.end - info.start) * c / (calls - 1);
+            const auto start = Clock::now();
+            if (ToolStatus s = api_status(dfm_mesh_set_pose_animation(m, animation, t)); !s)
+                return s;
+            pose_ms.push_back(ms_since(start));
+        }
+        const auto start = Clock::now();
+        if (ToolStatus s = api_status(dfm_mesh_read_positions(m, &out)); !s) return s;
+        posed_model_ms.push_back(ms_since(start));
+    }
+    if (ToolStatus s = api_status(dfm_mesh_set_pose_animation(m, animation, scenario_time)); !s)
+        return s;
+    if (ToolStatus s = api_status(dfm_session_read_positions(drag, &out, nullptr)); !s) return s;
+    const dfm_vec3_input in = {positions.data(), mesh.info.vertex_count, 0, DFM_SCALAR_FLOAT64};
+    for (int r = 0; r < repeat; ++r) {
+        const auto start = Clock::now();
+        if (ToolStatus s = api_status(dfm_mesh_set_positions(m, &in)); !s) return s;
+        bake_ms.push_back(ms_since(start));
+        if (ToolStatus s = api_status(dfm_mesh_undo_bake(m)); !s) return s;
+    }
+    return ToolStatus::ok();
 }
 
 // What the command line changes in every scenario's settings.
@@ -244,6 +294,16 @@ ToolStatus bench_scenario(const std::string& path, const BenchInput& in, int rep
         most_creased = std::max(most_creased, folds.creased_edges);
     }
 
+    // A posed scenario: what posing costs (the skinning, and the posed
+    // model an edit builds on first need) and what a bake's corrective
+    // costs, the drag's last frame baked and undone.
+    std::vector<double> pose_ms, posed_model_ms, bake_ms;
+    if (scenario.pose) {
+        if (ToolStatus s = time_pose(mesh, drag.get(), repeat, pose_ms, posed_model_ms, bake_ms);
+            !s)
+            return s;
+    }
+
     // The drag's session, as it ends, and the mesh: what an edit holds.
     // The peak above them is mostly the library's buffer pool, which keeps
     // a set-up's scratch for the next set-up, and this tool's own arrays.
@@ -303,6 +363,13 @@ ToolStatus bench_scenario(const std::string& path, const BenchInput& in, int rep
                    {"anderson", &frame_parts.anderson}});
     json.end_object();
     write_quality(json, quality);
+    if (scenario.pose) {
+        json.key("pose").begin_object();
+        write_spread(json, "set_pose_ms", pose_ms);
+        write_spread(json, "posed_model_ms", posed_model_ms);
+        write_spread(json, "bake_corrective_ms", bake_ms);
+        json.end_object();
+    }
     const auto mib = [](std::size_t bytes) { return static_cast<double>(bytes) / (1 << 20); };
     json.key("memory_mib").begin_object();
     json.key("factor").value(mib(session_memory.factor));

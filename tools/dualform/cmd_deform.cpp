@@ -155,6 +155,27 @@ int run_deform(std::span<const std::string_view> args) {
     json.field("linear_converged", solver.linear_converged);
     json.field("load_ms", load_ms);
     write_quality(json, quality);
+    if (scenario.pose) {
+        dfm_skin_info skin = {};
+        if (ToolStatus s = api_status(dfm_mesh_get_skin_info(mesh.mesh.get(), &skin)); !s) {
+            return failed(s.message());
+        }
+        dfm_animation_info animation = {};
+        if (ToolStatus s = api_status(dfm_mesh_get_animation_info(
+                mesh.mesh.get(), static_cast<std::uint32_t>(skin.pose_animation), &animation));
+            !s) {
+            return failed(s.message());
+        }
+        json.key("pose").begin_object();
+        json.field("animation", animation.name);
+        json.field("time", skin.pose_time);
+        json.end_object();
+        json.key("corrective").begin_object();
+        json.field("vertices", skin.corrective_vertex_count);
+        json.field("worst_condition", skin.corrective_worst_condition);
+        json.field("damped", skin.corrective_damped_count);
+        json.end_object();
+    }
     json.end_object();
     std::printf("%s\n", json.str().c_str());
     if (!report_path.empty()) {

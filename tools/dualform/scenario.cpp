@@ -137,8 +137,8 @@ public:
 
     ToolStatus scenario(const JsonValue& root, Scenario& out) const {
         const Field top{&root, root.at, ""};
-        if (ToolStatus s = object(
-                top, {"mesh", "subdivide", "roi", "handles", "solver", "description", "comment"});
+        if (ToolStatus s = object(top, {"mesh", "subdivide", "pose", "roi", "handles", "solver",
+                                        "description", "comment"});
             !s) {
             return s;
         }
@@ -154,6 +154,14 @@ public:
             double v = 0.0;
             if (ToolStatus s = number(f, "an integer from 0 to 3", accept, v); !s) return s;
             out.subdivide = static_cast<int>(v);
+        }
+        if (const Field f = member(top, "pose"); f.value) {
+            if (out.subdivide > 0) {
+                return error(f,
+                             "a pose cannot be combined with subdivide (a subdivided mesh has "
+                             "no skin)");
+            }
+            if (ToolStatus s = pose(f, out.pose.emplace()); !s) return s;
         }
         if (ToolStatus s = roi(member(top, "roi"), out.roi); !s) return s;
         if (ToolStatus s = handles(member(top, "handles"), out.handles); !s) return s;
@@ -318,6 +326,25 @@ private:
             if (ToolStatus s = number(item(f, static_cast<std::size_t>(i)), out[i]); !s) return s;
         }
         return ToolStatus::ok();
+    }
+
+    ToolStatus pose(const Field& f, PoseSpec& out) const {
+        if (ToolStatus s = object(f, {"animation", "time"}); !s) return s;
+        const Field animation = member(f, "animation");
+        if (!animation.value) return error(animation, "required field is missing");
+        if (animation.value->type == JsonType::string) {
+            out.animation_name = animation.value->text;
+        } else {
+            const auto accept = [](const JsonValue& v) {
+                return v.integer && v.number >= 0.0 && v.number <= 4294967295.0;
+            };
+            double v = 0.0;
+            if (ToolStatus s = number(animation, "an animation's name or index", accept, v); !s) {
+                return s;
+            }
+            out.animation_index = static_cast<std::uint32_t>(v);
+        }
+        return number(member(f, "time"), out.time);
     }
 
     ToolStatus mesh(const Field& f, std::string& out) const {

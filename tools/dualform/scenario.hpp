@@ -61,6 +61,14 @@ struct SolverSpec {
     std::optional<std::string> method;  // "fitted_rotations" or "paper" (docs/method.md)
 };
 
+// The pose a skinned mesh is edited in (docs/skinning.md): an animation of
+// the file, by name or index, at a time in seconds.
+struct PoseSpec {
+    std::optional<std::string> animation_name;
+    std::uint32_t animation_index = 0;
+    double time = 0.0;
+};
+
 struct Scenario {
     std::string mesh;  // as written: a path or model:NAME
     // Loop subdivision steps applied to the mesh after loading (0 to 3): the
@@ -68,6 +76,9 @@ struct Scenario {
     // vertex indices keep their meaning.
     int subdivide = 0;
     std::filesystem::path base_dir;  // the scenario file's folder, for relative paths
+    // With a pose, every position of the scenario is in the posed world
+    // space; vertex indices stay the file's.
+    std::optional<PoseSpec> pose;
     RoiSpec roi;
     std::vector<HandleSpec> handles;
     SolverSpec solver;

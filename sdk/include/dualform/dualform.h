@@ -322,8 +322,9 @@ typedef enum dfm_index_type {
     DFM_INDEX_UINT8 = 2
 } dfm_index_type;
 
-/* The most joints a skin and the most influences a vertex may have. */
+/* The most joints a skin may have. */
 #define DFM_MAX_JOINTS 65536u
+/* The most influences (joints and weights) a vertex may have. */
 #define DFM_MAX_INFLUENCES 32u
 
 /* A host's linear blend skin for dfm_mesh_create (dfm_mesh_desc.skin), as
@@ -343,14 +344,14 @@ typedef struct dfm_skin_input {
     const double* inverse_bind_matrices;
     uint32_t influence_count; /* joints and weights per vertex, 1 to DFM_MAX_INFLUENCES */
     /* Vertex v's influence_count joint indices, at (const char*)joints + v *
-     * joint_stride, of joint_type; stride 0: packed. */
+     * joint_stride, of joint_type. */
     const void* joints;
-    size_t joint_stride;
+    size_t joint_stride;       /* bytes from one vertex's joints to the next; 0: packed */
     dfm_index_type joint_type; /* 0: uint32_t */
     /* Vertex v's influence_count weights, at (const char*)weights + v *
-     * weight_stride, of weight_type; stride 0: packed. */
+     * weight_stride, of weight_type. */
     const void* weights;
-    size_t weight_stride;
+    size_t weight_stride;        /* bytes from one vertex's weights to the next; 0: packed */
     dfm_scalar_type weight_type; /* 0: float */
 } dfm_skin_input;
 
@@ -538,11 +539,10 @@ typedef struct dfm_skin_info {
     int32_t pose_animation;      /* the pose's animation, or -1: joint matrices, or none */
     double pose_time;            /* the pose's time in seconds, as clamped */
     /* The last bake (or dfm_mesh_set_positions) in a pose: the vertices it
-     * moved, the largest condition number of their L_v, and how many of
-     * them took the damped inverse. */
+     * moved, */
     size_t corrective_vertex_count;
-    double corrective_worst_condition;
-    size_t corrective_damped_count;
+    double corrective_worst_condition; /* the largest condition number of their L_v, */
+    size_t corrective_damped_count;    /* and how many took the damped inverse */
 } dfm_skin_info;
 
 /* Fills *out. A mesh without a skin or morph targets has all zeros and
@@ -563,12 +563,12 @@ DFM_API dfm_result dfm_mesh_get_joint_info(const dfm_mesh* mesh, uint32_t joint,
 /* One animation of the file (dfm_mesh_get_animation_info). */
 typedef struct dfm_animation_info {
     const char* name; /* its name, or "animation_N"; lives as long as the mesh */
-    double start;     /* its first and last key, in seconds */
-    double end;
-    uint32_t translation_channels; /* channels by what they animate */
-    uint32_t rotation_channels;
-    uint32_t scale_channels;
-    uint32_t weight_channels; /* morph target weights */
+    double start;                  /* its first key, in seconds */
+    double end;                    /* its last key, in seconds */
+    uint32_t translation_channels; /* channels that animate a node's translation */
+    uint32_t rotation_channels;    /* a node's rotation */
+    uint32_t scale_channels;       /* a node's scale */
+    uint32_t weight_channels;      /* morph target weights */
 } dfm_animation_info;
 
 /* Fills *out for animation `animation`; DFM_ERROR_OUT_OF_RANGE past the
