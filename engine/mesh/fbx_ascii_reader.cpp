@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -158,6 +159,12 @@ private:
                 if (Status s = advance(); !s) return s;
                 continue;
             }
+            // Values are separated by commas (Assimp's parser refuses two
+            // in a row, and leaks what it parsed when it does).
+            if (!expect_value) {
+                return error(next_.line, "a value '" + text(next_) +
+                                             "' follows another without a ',' between them");
+            }
             if (Status s = value(); !s) return s;
             ++doc_.nodes[index].property_count;
             expect_value = false;
@@ -166,6 +173,12 @@ private:
             const std::uint32_t open_line = next_.line;
             if (Status s = advance(); !s) return s;
             return list(index, depth + 1, open_line);
+        }
+        // Assimp's parser wants a node's values followed by something: a
+        // file ends with a '}'.
+        if (next_.kind == Kind::end) {
+            return error(key.line, "the file ends right after node '" + text(key) +
+                                       "' (an FBX file ends with a node's closing '}')");
         }
         return Status::ok();
     }
@@ -214,6 +227,10 @@ private:
                 if (expect_value) return error(next_.line, "a ',' where an array value belongs");
                 expect_value = true;
             } else {
+                if (!expect_value) {
+                    return error(next_.line, "array value " + std::to_string(found) +
+                                                 " follows another without a ',' between them");
+                }
                 const std::string_view v =
                     std::string_view(b_).substr(next_.begin, next_.end - next_.begin);
                 if (next_.quoted || !is_number(v)) {
@@ -268,6 +285,12 @@ Status parse_fbx_ascii(std::string bytes, std::string source, FbxDocument& out) 
     out.bytes = std::move(bytes);
     out.binary = false;
     const Where start = Where::line(out.source, 1);
+    // Text has no NUL: Assimp's tokenizer would stop there, mid-file.
+    if (const std::size_t nul = out.bytes.find('\0'); nul != std::string::npos) {
+        const auto line = 1 + std::count(out.bytes.begin(), out.bytes.begin() + nul, '\n');
+        return Where::line(out.source, static_cast<std::uint64_t>(line))
+            .parse_error("a NUL byte in ASCII FBX text");
+    }
     out.version = header_version(out.bytes);
     if (out.version == 0) {
         return start.parse_error(

@@ -73,6 +73,27 @@ bool decompose(const glm::dmat4& m, SkeletonNode& node) {
 
 using Influences = std::vector<std::pair<std::uint32_t, double>>;
 
+// Whether a quad is cut on its 1-3 diagonal rather than 0-2: where corner 1
+// or 3 does not lie strictly on its own side of the 0-2 diagonal (a quad
+// folded over it, or degenerate), as Blender decides for its exports
+// (is_quad_flip_v3_first_third_fast_with_normal, on the float positions and
+// the quad's normal from its diagonals), so a quad is split as in the glTF
+// export of the same mesh.
+bool quad_folds(const FbxGeometry& g, const std::vector<std::int64_t>& quad) {
+    glm::vec3 c[4];
+    for (int k = 0; k < 4; ++k) {
+        const double* p = &g.control_points[3 * static_cast<std::size_t>(quad[k])];
+        c[k] = glm::vec3(static_cast<float>(p[0]), static_cast<float>(p[1]),
+                         static_cast<float>(p[2]));
+    }
+    const glm::vec3 normal = glm::cross(c[0] - c[2], c[1] - c[3]);
+    const float length = glm::length(normal);
+    if (!(length > 0.0f)) return false;
+    const glm::vec3 tangent = glm::cross(c[2] - c[0], normal / length);
+    const float on_diagonal = glm::dot(c[0], tangent);
+    return glm::dot(c[3], tangent) >= on_diagonal || glm::dot(c[1], tangent) <= on_diagonal;
+}
+
 // How far Assimp's float corners may lie from the file's control points:
 // it keeps floats, and parses ASCII numbers with its own conversion, a
 // rounding off ours; anything more is another corner.
@@ -233,41 +254,53 @@ Status FbxLoader::corners_of(const FbxGeometry& g, const aiMesh*& out) const {
 
 Status FbxLoader::influences(const FbxGeometry& g, const aiMesh& mesh, std::uint32_t first_vertex,
                              std::uint32_t first_joint) {
-    std::vector<Influences> corner(g.corners.size());
+    // Each corner's (joint, weight) pairs, flat: counted, then filled.
+    std::vector<std::uint32_t> bone_joint(mesh.mNumBones, no_index);
+    std::vector<std::uint32_t> start(g.corners.size() + 1, 0);
     for (unsigned b = 0; b < mesh.mNumBones; ++b) {
         const aiBone& bone = *mesh.mBones[b];
         const std::string name = bone.mName.C_Str();
-        std::uint32_t joint = no_index;
         for (std::size_t c = 0; c < g.clusters.size(); ++c) {
             if (g.clusters[c].model_name == name) {
-                joint = first_joint + static_cast<std::uint32_t>(c);
+                bone_joint[b] = first_joint + static_cast<std::uint32_t>(c);
                 break;
             }
         }
-        if (joint == no_index) {
+        if (bone_joint[b] == no_index) {
             return error(Errc::parse_error, "geometry '" + g.name + "': Assimp's bone '" + name +
                                                 "' matches none of its skin's clusters");
         }
         for (unsigned k = 0; k < bone.mNumWeights; ++k) {
             const aiVertexWeight& w = bone.mWeights[k];
-            if (w.mVertexId >= corner.size() || !std::isfinite(w.mWeight) || w.mWeight < 0.0f) {
+            if (w.mVertexId >= g.corners.size() || !std::isfinite(w.mWeight) || w.mWeight < 0.0f) {
                 return error(Errc::parse_error, "geometry '" + g.name + "': Assimp's bone '" +
                                                     name + "' has a weight out of range");
             }
-            if (w.mWeight > 0.0f) corner[w.mVertexId].push_back({joint, w.mWeight});
+            if (w.mWeight > 0.0f) ++start[w.mVertexId + 1];
+        }
+    }
+    for (std::size_t c = 0; c < g.corners.size(); ++c) start[c + 1] += start[c];
+    std::vector<std::pair<std::uint32_t, double>> pairs(start.back());
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (unsigned b = 0; b < mesh.mNumBones; ++b) {
+        const aiBone& bone = *mesh.mBones[b];
+        for (unsigned k = 0; k < bone.mNumWeights; ++k) {
+            const aiVertexWeight& w = bone.mWeights[k];
+            if (w.mWeight > 0.0f) pairs[fill[w.mVertexId]++] = {bone_joint[b], w.mWeight};
         }
     }
     // Each control point takes its first corner's influences; every other
     // corner must have the same.
     std::vector<std::uint32_t> first_corner(g.control_point_count(), no_index);
     for (std::size_t c = 0; c < g.corners.size(); ++c) {
-        Influences& list = corner[c];
-        std::sort(list.begin(), list.end());
+        const auto begin = pairs.begin() + start[c], end = pairs.begin() + start[c + 1];
+        std::sort(begin, end);
         std::uint32_t& first = first_corner[g.corners[c]];
         if (first == no_index) {
             first = static_cast<std::uint32_t>(c);
-            influences_[first_vertex + g.corners[c]] = list;
-        } else if (corner[first] != list) {
+            influences_[first_vertex + g.corners[c]].assign(begin, end);
+        } else if (!std::equal(begin, end, pairs.begin() + start[first],
+                               pairs.begin() + start[first + 1])) {
             return error(Errc::parse_error,
                          "geometry '" + g.name + "': Assimp gave corners " + std::to_string(first) +
                              " and " + std::to_string(c) + " of control point " +
@@ -401,6 +434,12 @@ Status FbxLoader::geometry(std::size_t index) {
         if (corners.size() < 3) {
             ++short_polygons;
             continue;
+        }
+        // A quad folded over its 0-2 diagonal (corners 1 and 3 on the same
+        // side of it) is cut on 1-3 instead, as Blender cuts it: fanned from
+        // corner 1.
+        if (corners.size() == 4 && quad_folds(g, corners)) {
+            std::rotate(corners.begin(), corners.begin() + 1, corners.end());
         }
         if (Status s = builder.add_polygon(corners, at_polygons); !s) return s;
     }

@@ -51,6 +51,7 @@ private:
     }
 
     Status arrays();
+    Status header();
     Status settings();
     Status objects();
     Status connections();
@@ -63,6 +64,7 @@ private:
     Status cluster(const FbxNode& node, const FbxGeometry& g, FbxCluster& out);
     Status blend_shape(const FbxNode& blend_shape, FbxGeometry& g);
     Status matrix(const FbxNode& owner, std::string_view name, glm::dmat4& out) const;
+    std::optional<std::uint64_t> id(const FbxProperty& p) const;
     Status indexes(const FbxNode& owner, std::string_view name, std::size_t limit,
                    std::vector<std::uint32_t>& out) const;
 
@@ -187,6 +189,37 @@ Status Scanner::settings() {
     return Status::ok();
 }
 
+// An object id as Assimp takes one: a 64-bit integer property in binary
+// ('L'), digits in ASCII (Assimp reads them unsigned).
+std::optional<std::uint64_t> Scanner::id(const FbxProperty& p) const {
+    if (doc_.binary ? p.type != 'L' : p.type != 'n') return std::nullopt;
+    const std::optional<std::int64_t> v = fbx_integer(doc_, p);
+    if (!v || (!doc_.binary && *v < 0)) return std::nullopt;
+    return static_cast<std::uint64_t>(*v);
+}
+
+Status Scanner::header() {
+    // Assimp refuses a file without the header's FBXVersion, or older than
+    // 7.1, after it has built part of its document (which it then loses).
+    const FbxNode* header = doc_.child(no_index, "FBXHeaderExtension");
+    const FbxNode* version =
+        header != nullptr ? doc_.child(doc_.index_of(*header), "FBXVersion") : nullptr;
+    const std::optional<std::int64_t> v =
+        version != nullptr && version->property_count > 0 &&
+                (doc_.binary ? doc_.property(*version, 0).type == 'I' : true)
+            ? fbx_integer(doc_, doc_.property(*version, 0))
+            : std::nullopt;
+    if (!v) {
+        const Where top = doc_.binary ? Where::byte(doc_.source, 0) : Where::line(doc_.source, 1);
+        return top.parse_error("the file has no FBXHeaderExtension with an integer FBXVersion");
+    }
+    if (*v < 7100) {
+        return error(Errc::unsupported, *version,
+                     "FBXVersion " + std::to_string(*v) + " is older than 7.1, which is not read");
+    }
+    return Status::ok();
+}
+
 Status Scanner::objects() {
     const FbxNode* objects = doc_.child(no_index, "Objects");
     if (objects == nullptr) {
@@ -201,46 +234,52 @@ Status Scanner::objects() {
                          "an object needs an id, a name and a class (it has " +
                              std::to_string(n.property_count) + " properties)");
         }
-        const std::optional<std::int64_t> id = fbx_integer(doc_, doc_.property(n, 0));
-        if (!id || !fbx_string(doc_, doc_.property(n, 1)) ||
+        const std::optional<std::uint64_t> key = id(doc_.property(n, 0));
+        if (!key || !fbx_string(doc_, doc_.property(n, 1)) ||
             !fbx_string(doc_, doc_.property(n, 2))) {
             return error(Errc::parse_error, n,
                          "an object's properties must be an integer id, a name and a class");
         }
-        const auto key = static_cast<std::uint64_t>(*id);
-        if (key == 0) return error(Errc::parse_error, n, "an object has the root's id 0");
-        if (!objects_.emplace(key, c).second) {
-            warn(n, "a second object with id " + std::to_string(*id) + "; the first is read");
+        if (*key == 0) return error(Errc::parse_error, n, "an object has the root's id 0");
+        if (!objects_.emplace(*key, c).second) {
+            warn(n, "a second object with id " + std::to_string(*key) + "; the first is read");
         }
-        scene_.largest_id = std::max(scene_.largest_id, key);
+        scene_.largest_id = std::max(scene_.largest_id, *key);
     }
     return Status::ok();
 }
 
 Status Scanner::connections() {
+    // Assimp needs the section, and refuses (losing what it built) a
+    // connection without its type, ids or, object to property, property.
     const FbxNode* list = doc_.child(no_index, "Connections");
-    if (list == nullptr) return Status::ok();
+    if (list == nullptr) {
+        const Where top = doc_.binary ? Where::byte(doc_.source, 0) : Where::line(doc_.source, 1);
+        return top.parse_error("the file has no Connections section");
+    }
     scene_.connections_node = doc_.index_of(*list);
     for (std::uint32_t c : list->children) {
         const FbxNode& n = doc_.nodes[c];
         if (n.name != "C") continue;
-        if (n.property_count < 3) {
-            return error(Errc::parse_error, n,
-                         "a connection needs a type and two integer object ids");
+        const std::optional<std::string_view> type =
+            n.property_count > 0 ? fbx_string(doc_, doc_.property(n, 0)) : std::nullopt;
+        if (!type) return error(Errc::parse_error, n, "a connection needs its type first");
+        if (*type == "PP") continue;
+        const std::optional<std::uint64_t> source =
+            n.property_count > 1 ? id(doc_.property(n, 1)) : std::nullopt;
+        const std::optional<std::uint64_t> destination =
+            n.property_count > 2 ? id(doc_.property(n, 2)) : std::nullopt;
+        if (!source || !destination) {
+            return error(Errc::parse_error, n, "a connection needs two integer object ids");
         }
-        const std::optional<std::string_view> type = fbx_string(doc_, doc_.property(n, 0));
-        const std::optional<std::int64_t> from = fbx_integer(doc_, doc_.property(n, 1));
-        const std::optional<std::int64_t> to = fbx_integer(doc_, doc_.property(n, 2));
-        const std::int64_t source = from.value_or(0);
-        const std::int64_t destination = to.value_or(0);
-        if (!type || !from.has_value() || !to.has_value()) {
+        if (*type == "OP" &&
+            (n.property_count < 4 || !fbx_string(doc_, doc_.property(n, 3)))) {
             return error(Errc::parse_error, n,
-                         "a connection needs a type and two integer object ids");
+                         "an object-to-property connection needs the property's name");
         }
-        into_.emplace(static_cast<std::uint64_t>(destination), connections_.size());
-        out_of_.emplace(static_cast<std::uint64_t>(source), connections_.size());
-        connections_.push_back(
-            {*type, static_cast<std::uint64_t>(source), static_cast<std::uint64_t>(destination)});
+        into_.emplace(*destination, connections_.size());
+        out_of_.emplace(*source, connections_.size());
+        connections_.push_back({*type, *source, *destination});
     }
     return Status::ok();
 }
@@ -249,9 +288,9 @@ Status Scanner::model_hierarchy() {
     // Depth first from the root (id 0) over models connected into models.
     std::vector<std::pair<std::uint64_t, std::size_t>> stack{{0, 0}};
     while (!stack.empty()) {
-        const auto [id, depth] = stack.back();
+        const auto [model, depth] = stack.back();
         stack.pop_back();
-        const std::vector<std::uint64_t> children = sources(id, "Model", "");
+        const std::vector<std::uint64_t> children = sources(model, "Model", "");
         for (std::uint64_t child : children) {
             const FbxNode& n = *object(child);
             if (!scene_models_.insert(child).second) {
@@ -397,14 +436,15 @@ Status Scanner::layer_element(const FbxNode& element, const FbxGeometry& g) {
     const bool indexed = (reference == "IndexToDirect" || reference == "Index") && index != nullptr;
     std::size_t elements = 0;
     if (data != nullptr) {
-        std::vector<double> values;
-        if (Status s = fbx_doubles(doc_, *data, values); !s) return s;
-        if (values.size() % kind->width != 0) {
+        // The data's values are not read here, only counted: an array's
+        // declared count, which arrays() checked against its bytes.
+        const std::size_t values = fbx_value_count(doc_, *data);
+        if (values % kind->width != 0) {
             return error(Errc::parse_error, *data,
-                         std::to_string(values.size()) + " numbers, not a multiple of " +
+                         std::to_string(values) + " numbers, not a multiple of " +
                              std::to_string(kind->width));
         }
-        elements = values.size() / kind->width;
+        elements = values / kind->width;
         if (!indexed && (at_least ? elements < expected : elements != expected)) {
             return error(Errc::parse_error, *data,
                          std::to_string(elements) + " elements for mapping " +
@@ -445,7 +485,7 @@ Status Scanner::layers(const FbxNode& geometry, const FbxGeometry& g) {
 
 Status Scanner::cluster(const FbxNode& node, const FbxGeometry& g, FbxCluster& out) {
     out.node = doc_.index_of(node);
-    out.id = static_cast<std::uint64_t>(*fbx_integer(doc_, doc_.property(node, 0)));
+    out.id = *id(doc_.property(node, 0));
     if (Status s = indexes(node, "Indexes", g.control_point_count(), out.indexes); !s) return s;
     if (const FbxNode* w = doc_.child(out.node, "Weights")) {
         if (Status s = fbx_doubles(doc_, *w, out.weights); !s) return s;
@@ -477,8 +517,8 @@ Status Scanner::cluster(const FbxNode& node, const FbxGeometry& g, FbxCluster& o
 
 Status Scanner::skin(const FbxNode& node, FbxGeometry& g) {
     g.skin_node = doc_.index_of(node);
-    const auto id = static_cast<std::uint64_t>(*fbx_integer(doc_, doc_.property(node, 0)));
-    for (std::uint64_t c : sources(id, "Deformer", "Cluster")) {
+    const std::uint64_t own = *id(doc_.property(node, 0));
+    for (std::uint64_t c : sources(own, "Deformer", "Cluster")) {
         FbxCluster cl;
         if (Status s = cluster(*object(c), g, cl); !s) return s;
         g.clusters.push_back(std::move(cl));
@@ -487,12 +527,12 @@ Status Scanner::skin(const FbxNode& node, FbxGeometry& g) {
 }
 
 Status Scanner::blend_shape(const FbxNode& node, FbxGeometry& g) {
-    const auto id = static_cast<std::uint64_t>(*fbx_integer(doc_, doc_.property(node, 0)));
+    const std::uint64_t own = *id(doc_.property(node, 0));
     if (g.blend_shape_node == no_index) {
         g.blend_shape_node = doc_.index_of(node);
-        g.blend_shape = id;
+        g.blend_shape = own;
     }
-    for (std::uint64_t c : sources(id, "Deformer", "BlendShapeChannel")) {
+    for (std::uint64_t c : sources(own, "Deformer", "BlendShapeChannel")) {
         const FbxNode& channel = *object(c);
         FbxShapeChannel out;
         out.channel_node = doc_.index_of(channel);
@@ -561,7 +601,7 @@ Status Scanner::blend_shape(const FbxNode& node, FbxGeometry& g) {
 
 Status Scanner::geometry(const FbxNode& node, FbxGeometry& g) {
     g.node = doc_.index_of(node);
-    g.id = static_cast<std::uint64_t>(*fbx_integer(doc_, doc_.property(node, 0)));
+    g.id = *id(doc_.property(node, 0));
     g.name = name_of(node);
     const FbxNode* vertices = doc_.child(g.node, "Vertices");
     if (vertices == nullptr)
@@ -602,6 +642,7 @@ Status Scanner::geometry(const FbxNode& node, FbxGeometry& g) {
 
 Status Scanner::run() {
     if (Status s = arrays(); !s) return s;
+    if (Status s = header(); !s) return s;
     if (Status s = settings(); !s) return s;
     if (Status s = objects(); !s) return s;
     if (Status s = connections(); !s) return s;
@@ -612,10 +653,10 @@ Status Scanner::run() {
     for (std::uint32_t c : doc_.nodes[scene_.objects_node].children) {
         const FbxNode& n = doc_.nodes[c];
         if (n.name != "Geometry" || class_of(n) != "Mesh") continue;
-        const auto id = static_cast<std::uint64_t>(*fbx_integer(doc_, doc_.property(n, 0)));
-        if (objects_.at(id) != c) continue;  // a duplicate id
+        const std::uint64_t own = *id(doc_.property(n, 0));
+        if (objects_.at(own) != c) continue;  // a duplicate id
         std::uint64_t model = 0;
-        for (std::uint64_t m : destinations(id, "Model")) {
+        for (std::uint64_t m : destinations(own, "Model")) {
             if (scene_models_.count(m) != 0) {
                 model = m;
                 break;

@@ -323,6 +323,11 @@ Status fbx_integers(const FbxDocument& doc, const FbxNode& node, std::vector<std
         });
 }
 
+std::size_t fbx_value_count(const FbxDocument& doc, const FbxNode& node) {
+    const FbxProperty* array = array_of(doc, node);
+    return array != nullptr ? array->count : node.property_count;
+}
+
 Status fbx_check_array(const FbxDocument& doc, const FbxNode& node, const FbxProperty& p) {
     if (p.encoding != 1 || width_of(p.type) == 0) return Status::ok();
     return inflate_array(doc, node, p, std::size_t{p.count} * width_of(p.type), nullptr);

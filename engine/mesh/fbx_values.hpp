@@ -33,6 +33,10 @@ Status fbx_doubles(const FbxDocument& doc, const FbxNode& node, std::vector<doub
 // whole numbers within 64 bits.
 Status fbx_integers(const FbxDocument& doc, const FbxNode& node, std::vector<std::int64_t>& out);
 
+// How many values fbx_doubles would give for `node`, without decoding them:
+// its one array's declared count, or its number of properties.
+std::size_t fbx_value_count(const FbxDocument& doc, const FbxNode& node);
+
 // Checks that a binary array property stores exactly its declared size
 // (inflating a deflated one through a small buffer, so nothing of the
 // declared size is allocated). Other properties pass.

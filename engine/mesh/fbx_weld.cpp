@@ -43,8 +43,9 @@ void weld_fbx(const Mesh& host, const Skin& host_skin, const WeldOptions& option
     surface_skin = std::make_shared<const Skin>(skin_on_surface(host_skin, weld));
     if (weld.kept_apart > 0) {
         const std::string what = std::to_string(weld.kept_apart) +
-                                 " positions have control points whose skins or morph deltas "
-                                 "differ; those were not welded, and the surface has a seam there";
+                                 " positions have control points that faces connect but whose "
+                                 "skins or morph deltas differ; they were not welded, and the "
+                                 "surface has a seam there";
         if (report.warnings.size() < LoadReport::max_warnings) {
             report.warnings.push_back(source + ": " + what);
         } else {

@@ -64,10 +64,12 @@ std::vector<std::uint32_t> match_points(const std::vector<glm::dvec3>& a,
     for (std::size_t i = 0; i < a.size(); ++i) {
         auto it = std::lower_bound(order.begin(), order.end(), a[i].x - tolerance,
                                    [&](std::uint32_t j, double x) { return b[j].x < x; });
+        // The nearest one not taken yet: coincident points (a rig's
+        // vertices that faces do not connect) pair off in turn.
         double best = tolerance;
         for (; it != order.end() && b[*it].x <= a[i].x + tolerance; ++it) {
             const double d = glm::length(b[*it] - a[i]);
-            if (d <= best) {
+            if (d <= best && !taken[*it]) {
                 best = d;
                 out[i] = *it;
             }
@@ -99,10 +101,12 @@ EditVertices edit_vertices(const std::vector<glm::dvec3>& host) {
 }
 
 std::string edit_scenario(const std::filesystem::path& dir, const std::filesystem::path& mesh,
-                          std::uint32_t first, std::uint32_t last) {
+                          std::uint32_t first, std::uint32_t last, const std::string& pose) {
     std::ostringstream s;
-    s << R"({"mesh": ")" << mesh.string() << R"(", "roi": {"water_fill": {"first": )" << first
-      << R"(, "last": )" << last << R"(}}, "handles": [{"ball": {"center": )" << first
+    s << R"({"mesh": ")" << mesh.string() << R"(", )";
+    if (!pose.empty()) s << R"("pose": )" << pose << ", ";
+    s << R"("roi": {"water_fill": {"first": )" << first << R"(, "last": )" << last
+      << R"(}}, "handles": [{"ball": {"center": )" << first
       << R"(, "radius": 0.04}, "translate": [0.0, 0.08, 0.05]}], "solver": )"
       << R"({"tolerance": 1e-10, "max_iterations": 400}})";
     const auto path = dir / (mesh.filename().string() + ".json");
@@ -132,12 +136,16 @@ const BlenderObject& BlenderFile::object(std::string_view name) const {
 }
 
 std::vector<BlenderFile> blender_import(const std::vector<std::filesystem::path>& files,
-                                        const std::filesystem::path& scratch) {
+                                        const std::filesystem::path& scratch, int pose_frame,
+                                        const std::string& pose_key) {
     const std::filesystem::path out = scratch / "blender.json";
     std::vector<std::string> args{
         "-b", "--factory-startup", "--python-exit-code",
         "1",  "--python",          DUALFORM_FBX_SCRIPTS "/blender_fbx_read.py",
         "--", out.string()};
+    if (pose_frame != 0) {
+        args.insert(args.end(), {"--pose", std::to_string(pose_frame), pose_key});
+    }
     for (const auto& f : files) args.push_back(f.string());
     const ProcessResult r = run_process(DUALFORM_BLENDER, args);
     REQUIRE_MESSAGE(r.exit_code == 0, "Blender failed:\n" << r.out << r.err);
@@ -153,6 +161,7 @@ std::vector<BlenderFile> blender_import(const std::vector<std::filesystem::path>
             if (obj.type == "MESH") {
                 obj.vertices = points(field(o, "vertices"));
                 obj.armature = field(o, "armature").text;
+                if (pose_frame != 0) obj.posed = points(field(o, "posed"));
                 for (const json::JsonValue& k : field(o, "shape_keys").items) {
                     obj.shape_keys.push_back({field(k, "name").text, field(k, "value").number,
                                               points(field(k, "positions"))});

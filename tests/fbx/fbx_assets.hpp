@@ -27,9 +27,9 @@ struct Loaded {
 // load_host_mesh; fails the test when the load fails.
 Loaded load(const std::filesystem::path& path);
 
-// For each of `a`, the index of the one of `b` nearest to it; fails the
-// test when one is farther than `tolerance` or two share a nearest point.
-// The largest distance goes to `worst`.
+// For each of `a`, the index of the one of `b` nearest to it that no
+// earlier one took; fails the test when none is within `tolerance`. The
+// largest distance goes to `worst`.
 std::vector<std::uint32_t> match_points(const std::vector<glm::dvec3>& a,
                                         const std::vector<glm::dvec3>& b, double tolerance,
                                         double& worst);
@@ -45,9 +45,10 @@ EditVertices edit_vertices(const std::vector<glm::dvec3>& host);
 
 // A scenario for `mesh` (absolute): Water-Filling from `first` cut at
 // `last`, a ball handle at `first` moved by (0, 0.08, 0.05) of the
-// diagonal, a tight solve; written into `dir`, its path returned.
+// diagonal, a tight solve, and `pose` (the scenario key's JSON, or empty);
+// written into `dir`, its path returned.
 std::string edit_scenario(const std::filesystem::path& dir, const std::filesystem::path& mesh,
-                          std::uint32_t first, std::uint32_t last);
+                          std::uint32_t first, std::uint32_t last, const std::string& pose = {});
 
 // Runs the dualform tool; fails the test unless it exits 0.
 std::string run_cli(const std::vector<std::string>& args);
@@ -69,6 +70,7 @@ struct BlenderObject {
     std::vector<ShapeKey> shape_keys;
     std::string armature;            // a mesh's Armature modifier's object
     std::vector<std::string> bones;  // an armature's
+    std::vector<glm::dvec3> posed;   // a mesh's evaluated vertices (blender_import's pose)
 };
 struct BlenderFile {
     std::vector<BlenderObject> objects;
@@ -76,9 +78,12 @@ struct BlenderFile {
     const BlenderObject& object(std::string_view name) const;
 };
 
-// Imports each file with Blender's FBX importer, one Blender run.
+// Imports each file with Blender's FBX importer, one Blender run; with a
+// `pose_frame`, each mesh is also evaluated at that frame of its imported
+// action with the shape key `pose_key` at 1 (BlenderObject::posed).
 std::vector<BlenderFile> blender_import(const std::vector<std::filesystem::path>& files,
-                                        const std::filesystem::path& scratch);
+                                        const std::filesystem::path& scratch, int pose_frame = 0,
+                                        const std::string& pose_key = {});
 
 // Blender's evaluated mesh of a skinned asset at one frame of one action
 // (NAME.frames.json): positions per Blender vertex, glTF axes.

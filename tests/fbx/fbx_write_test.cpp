@@ -260,3 +260,38 @@ TEST_CASE("an FBX 7.5 file is edited and written back as 7.5, and Blender import
     CHECK(arm.shape_keys[1].value == doctest::Approx(0.25));
     CHECK(arm.shape_keys[2].name == "Lift");
 }
+
+TEST_CASE("a posed edit saved into the FBX as a corrective plays in Blender as Dualform shows it") {
+    const auto dir = test::scratch_dir("fbx_corrective");
+    const auto in = asset("arm.fbx");
+    const Loaded original = load(in);
+    const double diag = diagonal(original.surface);
+    const test::fbx::EditVertices e =
+        test::fbx::edit_vertices(mesh::host_positions(original.surface, original.host));
+    // FBX time 0.5 s of Blender's stack is its frame 13 (the importer puts
+    // time 0 at frame 1, 24 frames a second).
+    const std::string scenario = test::fbx::edit_scenario(
+        dir, in, e.first, e.last, R"({"animation": "ArmRig|Wave", "time": 0.5})");
+    const auto corrective = dir / "corrective.fbx";
+    const auto shown = dir / "posed.obj";
+    test::fbx::run_cli({"deform", scenario, "--out", corrective.string(), "--morph-target", "Fix"});
+    test::fbx::run_cli({"deform", scenario, "--out", shown.string()});
+    mesh::Mesh posed_edit;
+    REQUIRE(mesh::load_mesh(shown, posed_edit));
+    const std::vector<test::fbx::BlenderFile> blender =
+        test::fbx::blender_import({corrective, in}, dir, 13, "Fix");
+    REQUIRE(blender.size() == 2);
+    const test::fbx::BlenderObject& arm = blender[0].object("Arm");
+    CHECK(arm.shape_keys.back().name == "Fix");
+    CHECK(test::parse_fbx_file(corrective.string()).bytes.find("dualform_pose") !=
+          std::string::npos);
+    const double error = blender_error(arm.posed, original, posed_edit.positions);
+    // The file without the key, posed alike: where the edit started.
+    const double edit =
+        blender_error(blender[1].object("Arm").posed, original, posed_edit.positions);
+    MESSAGE("Blender plays the corrective at frame 13 within "
+            << error / diag << " of the diagonal of Dualform's posed edit (the edit moves "
+            << edit / diag << ")");
+    CHECK(edit > 0.01 * diag);
+    CHECK(error <= 1e-4 * diag);
+}
