@@ -90,7 +90,17 @@ private:
             return Status::ok();
         }
         if (c == ':') return error(line_, "a ':' without a name before it");
-        while (p < b_.size() && !is_delimiter(b_[p])) ++p;
+        while (p < b_.size() && !is_delimiter(b_[p])) {
+            // Control characters outside strings: Assimp splits tokens at
+            // some of them (a form feed ends its line), so none is taken.
+            if (static_cast<unsigned char>(b_[p]) < 0x20) {
+                static constexpr char hex[] = "0123456789abcdef";
+                const auto code = static_cast<unsigned char>(b_[p]);
+                return error(line_, std::string("a control character 0x") + hex[code >> 4] +
+                                        hex[code & 15] + " outside a string");
+            }
+            ++p;
+        }
         next_.end = p;
         if (p < b_.size() && b_[p] == ':') {
             next_.kind = Kind::key;
