@@ -155,7 +155,6 @@ private:
     // Geometries' first morph target, by the name Assimp gives a mesh's
     // morph animation ("MODEL*0").
     std::map<std::string, std::pair<std::size_t, std::size_t>> morph_columns_;
-    std::vector<std::uint32_t> mesh_nodes_;  // per geometry: its model's node
 };
 
 Status FbxLoader::import() {
@@ -370,7 +369,6 @@ Status FbxLoader::geometry(std::size_t index) {
     if (Status s = corners_of(g, mesh); !s) return s;
     std::uint32_t node = no_index;
     if (Status s = model_node(g.model_name, node); !s) return s;
-    mesh_nodes_.push_back(node);
     FbxGeometryRange range;
     range.geometry = index;
     range.first_vertex = static_cast<std::uint32_t>(host_.positions.size());

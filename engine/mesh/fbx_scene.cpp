@@ -51,6 +51,8 @@ private:
     }
 
     Status arrays();
+    Status property_entry(const FbxNode& p) const;
+    Status property_entries();
     Status header();
     Status settings();
     Status objects();
@@ -196,6 +198,69 @@ std::optional<std::uint64_t> Scanner::id(const FbxProperty& p) const {
     const std::optional<std::int64_t> v = fbx_integer(doc_, p);
     if (!v || (!doc_.binary && *v < 0)) return std::nullopt;
     return static_cast<std::uint64_t>(*v);
+}
+
+// What Assimp's property tables require of a "P" entry (it throws, and
+// leaks, where one is otherwise): a name and type string, and by the type
+// enough values of the kinds it parses (FBXProperties.cpp).
+Status Scanner::property_entry(const FbxNode& p) const {
+    const auto string_at = [&](std::uint32_t i) {
+        return i < p.property_count && fbx_string(doc_, doc_.property(p, i)).has_value();
+    };
+    const auto integer_at = [&](std::uint32_t i, char binary_type, bool unsigned_only) {
+        if (i >= p.property_count) return false;
+        const FbxProperty& v = doc_.property(p, i);
+        if (doc_.binary) return v.type == binary_type;
+        const std::optional<std::int64_t> n = fbx_integer(doc_, v);
+        return n.has_value() && (!unsigned_only || *n >= 0);
+    };
+    const auto number_at = [&](std::uint32_t i) {
+        if (i >= p.property_count) return false;
+        const FbxProperty& v = doc_.property(p, i);
+        return doc_.binary ? (v.type == 'F' || v.type == 'D') : v.type == 'n';
+    };
+    if (p.property_count >= 4 && !string_at(0)) {
+        return error(Errc::parse_error, p, "a property entry's name is not a string");
+    }
+    if (p.property_count < 2) return Status::ok();
+    const std::optional<std::string_view> type = fbx_string(doc_, doc_.property(p, 1));
+    if (!type) return error(Errc::parse_error, p, "a property entry's type is not a string");
+    const std::string_view t = *type;
+    bool ok = true;
+    if (t == "KString") {
+        ok = string_at(4);
+    } else if (t == "bool" || t == "Bool" || t == "int" || t == "Int" || t == "enum" ||
+               t == "Enum" || t == "Integer") {
+        ok = integer_at(4, 'I', false);
+    } else if (t == "ULongLong") {
+        ok = integer_at(4, 'L', true);
+    } else if (t == "KTime") {
+        ok = integer_at(4, 'L', false);
+    } else if (t == "Vector3D" || t == "ColorRGB" || t == "Vector" || t == "Color" ||
+               t == "Lcl Translation" || t == "Lcl Rotation" || t == "Lcl Scaling") {
+        ok = number_at(4) && number_at(5) && number_at(6);
+    } else if (t == "double" || t == "Number" || t == "float" || t == "Float" ||
+               t == "FieldOfView" || t == "UnitScaleFactor") {
+        ok = number_at(4);
+    } else if (t == "ColorAndAlpha") {
+        ok = number_at(4) && number_at(5) && number_at(6) && number_at(7);
+    }
+    if (!ok) {
+        return error(Errc::parse_error, p,
+                     "a property entry of type '" + std::string(t) +
+                         "' lacks the values of that type");
+    }
+    return Status::ok();
+}
+
+Status Scanner::property_entries() {
+    for (const FbxNode& n : doc_.nodes) {
+        if (n.name != "P" || n.parent == no_index || doc_.nodes[n.parent].name != "Properties70") {
+            continue;
+        }
+        if (Status s = property_entry(n); !s) return s;
+    }
+    return Status::ok();
 }
 
 Status Scanner::header() {
@@ -643,6 +708,7 @@ Status Scanner::geometry(const FbxNode& node, FbxGeometry& g) {
 Status Scanner::run() {
     if (Status s = arrays(); !s) return s;
     if (Status s = header(); !s) return s;
+    if (Status s = property_entries(); !s) return s;
     if (Status s = settings(); !s) return s;
     if (Status s = objects(); !s) return s;
     if (Status s = connections(); !s) return s;

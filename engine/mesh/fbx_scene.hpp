@@ -97,13 +97,15 @@ struct FbxScene {
 // (Assimp converts it recursively).
 inline constexpr std::size_t fbx_max_model_depth = 256;
 
-// Reads and checks the tree: every binary array's exact size; settings;
-// each instanced mesh's vertices (finite), polygons (indices in range, the
-// last one closed), layer elements (arrays of the size their mapping says,
-// indices within their data), skin clusters (indexes in range, one weight
-// each, finite, 16-number matrices, an invertible TransformLink), blend
-// shape channels (shape indexes in range, 3 deltas and 3 normals each); the
-// model hierarchy (each model reached once from the root, depth bounded).
+// Reads and checks the tree: every binary array's exact size; the header's
+// FBXVersion; settings; objects' and connections' ids, names and types (as
+// Assimp requires them); each instanced mesh's vertices (finite), polygons
+// (indices in range, the last one closed), layer elements (arrays of the
+// size their mapping says, indices within their data), skin clusters
+// (indexes in range, one weight each, finite, 16-number matrices, an
+// invertible TransformLink), blend shape channels (shape indexes in range,
+// 3 deltas and 3 normals each); the model hierarchy (each model reached
+// once from the root, depth bounded).
 // Errors name the node and what was wrong; what only degrades the load
 // (2-corner polygons, in-between shapes) goes to `report` as warnings.
 Status scan_fbx(const FbxDocument& doc, FbxScene& scene, LoadReport& report);
