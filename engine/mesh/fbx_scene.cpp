@@ -259,6 +259,23 @@ Status Scanner::property_entries() {
             continue;
         }
         if (Status s = property_entry(n); !s) return s;
+        // Assimp 5.2.5 copies a model's properties (its template's, where it
+        // has none of its own) into its node's metadata and aborts (an
+        // assertion Debian's build keeps) on the types it has no metadata for.
+        const std::uint32_t owner = doc_.nodes[n.parent].parent;
+        if (owner == no_index || n.property_count < 2) continue;
+        const FbxNode& o = doc_.nodes[owner];
+        const bool model_template =
+            o.name == "PropertyTemplate" && o.parent != no_index &&
+            doc_.nodes[o.parent].name == "ObjectType" && doc_.nodes[o.parent].property_count > 0 &&
+            fbx_string(doc_, doc_.property(doc_.nodes[o.parent], 0)) == "Model";
+        if (o.name != "Model" && !model_template) continue;
+        const std::optional<std::string_view> type = fbx_string(doc_, doc_.property(n, 1));
+        if (type == "KTime" || type == "ColorAndAlpha") {
+            return error(Errc::unsupported, n,
+                         "a model property of type '" + std::string(*type) +
+                             "', on which Assimp 5.2.5 aborts");
+        }
     }
     return Status::ok();
 }
