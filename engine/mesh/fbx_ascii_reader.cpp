@@ -175,9 +175,17 @@ private:
                 return error(next_.line, "a value '" + text(next_) +
                                              "' follows another without a ',' between them");
             }
+            const bool array =
+                next_.end - next_.begin > 1 && b_[next_.begin] == '*' && !next_.quoted;
             if (Status s = value(); !s) return s;
             ++doc_.nodes[index].property_count;
             expect_value = false;
+            // An array's '}' ends its node for Assimp: nothing may follow it.
+            if (array && (next_.kind == Kind::data || next_.kind == Kind::comma ||
+                          next_.kind == Kind::open)) {
+                return error(next_.line,
+                             "'" + text(next_) + "' after an array, which ends its node");
+            }
         }
         if (next_.kind == Kind::open) {
             const std::uint32_t open_line = next_.line;

@@ -246,9 +246,9 @@ Status Scanner::property_entry(const FbxNode& p) const {
         ok = number_at(4) && number_at(5) && number_at(6) && number_at(7);
     }
     if (!ok) {
-        return error(Errc::parse_error, p,
-                     "a property entry of type '" + std::string(t) +
-                         "' lacks the values of that type");
+        return error(
+            Errc::parse_error, p,
+            "a property entry of type '" + std::string(t) + "' lacks the values of that type");
     }
     return Status::ok();
 }
@@ -323,8 +323,10 @@ Status Scanner::objects() {
                          "an object's properties must be an integer id, a name and a class");
         }
         if (*key == 0) return error(Errc::parse_error, n, "an object has the root's id 0");
+        // Ids name objects in connections; Assimp would take the second and
+        // lose the first.
         if (!objects_.emplace(*key, c).second) {
-            warn(n, "a second object with id " + std::to_string(*key) + "; the first is read");
+            return error(Errc::parse_error, n, "a second object with id " + std::to_string(*key));
         }
         scene_.largest_id = std::max(scene_.largest_id, *key);
     }
@@ -354,8 +356,7 @@ Status Scanner::connections() {
         if (!source || !destination) {
             return error(Errc::parse_error, n, "a connection needs two integer object ids");
         }
-        if (*type == "OP" &&
-            (n.property_count < 4 || !fbx_string(doc_, doc_.property(n, 3)))) {
+        if (*type == "OP" && (n.property_count < 4 || !fbx_string(doc_, doc_.property(n, 3)))) {
             return error(Errc::parse_error, n,
                          "an object-to-property connection needs the property's name");
         }
@@ -737,7 +738,6 @@ Status Scanner::run() {
         const FbxNode& n = doc_.nodes[c];
         if (n.name != "Geometry" || class_of(n) != "Mesh") continue;
         const std::uint64_t own = *id(doc_.property(n, 0));
-        if (objects_.at(own) != c) continue;  // a duplicate id
         std::uint64_t model = 0;
         for (std::uint64_t m : destinations(own, "Model")) {
             if (scene_models_.count(m) != 0) {
