@@ -184,7 +184,7 @@ private:
             if (array && (next_.kind == Kind::data || next_.kind == Kind::comma ||
                           next_.kind == Kind::open)) {
                 return error(next_.line,
-                             "'" + text(next_) + "' after an array, which ends its node");
+                             "an array ends its node, and '" + text(next_) + "' follows it");
             }
         }
         if (next_.kind == Kind::open) {
