@@ -195,6 +195,10 @@ Status Scanner::settings() {
 // ('L'), digits in ASCII (Assimp reads them unsigned).
 std::optional<std::uint64_t> Scanner::id(const FbxProperty& p) const {
     if (doc_.binary ? p.type != 'L' : p.type != 'n') return std::nullopt;
+    // Assimp's text conversion throws on anything but a digit first.
+    if (!doc_.binary && !(doc_.bytes[p.begin] >= '0' && doc_.bytes[p.begin] <= '9')) {
+        return std::nullopt;
+    }
     const std::optional<std::int64_t> v = fbx_integer(doc_, p);
     if (!v || (!doc_.binary && *v < 0)) return std::nullopt;
     return static_cast<std::uint64_t>(*v);
@@ -207,12 +211,11 @@ Status Scanner::property_entry(const FbxNode& p) const {
     const auto string_at = [&](std::uint32_t i) {
         return i < p.property_count && fbx_string(doc_, doc_.property(p, i)).has_value();
     };
-    const auto integer_at = [&](std::uint32_t i, char binary_type, bool unsigned_only) {
+    const auto integer_at = [&](std::uint32_t i, char binary_type) {
         if (i >= p.property_count) return false;
         const FbxProperty& v = doc_.property(p, i);
         if (doc_.binary) return v.type == binary_type;
-        const std::optional<std::int64_t> n = fbx_integer(doc_, v);
-        return n.has_value() && (!unsigned_only || *n >= 0);
+        return fbx_integer(doc_, v).has_value();
     };
     const auto number_at = [&](std::uint32_t i) {
         if (i >= p.property_count) return false;
@@ -231,11 +234,11 @@ Status Scanner::property_entry(const FbxNode& p) const {
         ok = string_at(4);
     } else if (t == "bool" || t == "Bool" || t == "int" || t == "Int" || t == "enum" ||
                t == "Enum" || t == "Integer") {
-        ok = integer_at(4, 'I', false);
+        ok = integer_at(4, 'I');
     } else if (t == "ULongLong") {
-        ok = integer_at(4, 'L', true);
+        ok = 4 < p.property_count && id(doc_.property(p, 4)).has_value();
     } else if (t == "KTime") {
-        ok = integer_at(4, 'L', false);
+        ok = integer_at(4, 'L');
     } else if (t == "Vector3D" || t == "ColorRGB" || t == "Vector" || t == "Color" ||
                t == "Lcl Translation" || t == "Lcl Rotation" || t == "Lcl Scaling") {
         ok = number_at(4) && number_at(5) && number_at(6);
