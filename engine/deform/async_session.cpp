@@ -50,7 +50,7 @@ Status AsyncSession::create(const MeshModel& model, std::span<const std::uint32_
         s->newest_finished_ = start.first_generation;
         s->on_frame_ = std::move(start.on_frame);
         s->record_memory();
-        if (!scheduler.post(*s)) {
+        if (scheduler.closed()) {
             // Never started: nothing to report to on_frame.
             s->set_up_ran_ = true;
             return Status(Errc::cancelled,
@@ -61,6 +61,12 @@ Status AsyncSession::create(const MeshModel& model, std::span<const std::uint32_
     } catch (const std::bad_alloc&) {
         return Status(Errc::out_of_memory, "out of memory while starting the session");
     }
+}
+
+void AsyncSession::begin() {
+    // Closed since create: the set-up ends as one the closing scheduler
+    // found in line.
+    if (!scheduler_.post(*this)) run(Slice{.closing = true});
 }
 
 AsyncSession::~AsyncSession() {
@@ -84,7 +90,8 @@ AsyncSession::~AsyncSession() {
     }
 }
 
-Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& generation) {
+Status AsyncSession::submit(std::span<const glm::dvec3> targets,
+                            std::unique_lock<std::mutex>& staging, std::uint64_t& generation) {
     generation = 0;
     std::uint64_t queued = 0;
     {
@@ -95,6 +102,7 @@ Status AsyncSession::submit(std::span<const glm::dvec3> targets, std::uint64_t& 
         queued_generation_ = next_generation_++;
         queued = queued_generation_;
     }
+    staging.unlock();
     if (!scheduler_.post(*this)) {
         std::lock_guard<std::mutex> lock(mutex_);
         if (queued_generation_ == queued) has_queued_ = false;
@@ -262,7 +270,6 @@ void AsyncSession::finish_set_up(const Status& status, const SetupReport* report
     std::uint64_t generation = 0;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        preparing_ = false;
         setup_status_ = status;
         if (report != nullptr) setup_report_ = *report;
         generation = first_generation_;
@@ -272,7 +279,7 @@ void AsyncSession::finish_set_up(const Status& status, const SetupReport* report
             has_queued_ = false;
         }
     }
-    publish(generation, SolveReport{.converged = status.is_ok()}, status.code(), false);
+    publish(generation, SolveReport{.converged = status.is_ok()}, status.code(), false, true);
 }
 
 jobs::Task::Outcome AsyncSession::run(const Slice& slice) {
@@ -426,13 +433,13 @@ std::span<const glm::dvec3> AsyncSession::current_positions() const {
 }
 
 void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, Errc status,
-                           bool partial) {
+                           bool partial, bool ends_set_up) {
     int slot = 0;
     bool preparing = false;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         while (slot == front_ || slot == finished_ || slot == reading_ || slot == held_) ++slot;
-        preparing = preparing_;
+        preparing = preparing_ && !ends_set_up;
     }
     Frame& frame = frames_[slot];
     // Already sized by the set-up (no allocation) unless it ran out of memory.
@@ -442,6 +449,8 @@ void AsyncSession::publish(std::uint64_t generation, const SolveReport& report, 
     {
         std::lock_guard<std::mutex> lock(mutex_);
         front_ = slot;
+        // A waiter that sees the set-up ended finds its frame published.
+        if (ends_set_up) preparing_ = false;
         newest_generation_ = generation;
         if (!partial) {
             finished_ = slot;

@@ -95,10 +95,16 @@ public:
     // `roi` is the region the session edits (ascending, no repeats);
     // frames carry the positions of all its vertices. `handle_vertices` are the set-up's,
     // in order. `model` and `scheduler` must outlive the AsyncSession.
-    // Errc::cancelled when the scheduler is closed.
+    // Errc::cancelled when the scheduler is closed. The set-up waits for
+    // begin().
     static Status create(const MeshModel& model, std::span<const std::uint32_t> roi,
                          std::span<const std::uint32_t> handle_vertices, Setup setup, Start start,
                          jobs::Scheduler& scheduler, std::unique_ptr<AsyncSession>& out);
+    // Queues the set-up on the scheduler, which may call the host's job
+    // system: so apart from create, for a caller that holds a lock while it
+    // creates. A scheduler closed since create ends the set-up as cancelled
+    // (published, so on_frame hears of it).
+    void begin();
     // Stops the solve after the iteration in progress, or the set-up
     // through Setup's stop flag, and waits for the run to return; a set-up
     // that never ran is published as cancelled.
@@ -108,9 +114,13 @@ public:
 
     // Queues `targets` for the scheduler and returns their generation:
     // finite, one per handle vertex (the caller's staging checked them,
-    // deform/edit.hpp). Never waits for a solve or the set-up. A failed
-    // set-up or a closed scheduler is refused and nothing is queued.
-    Status submit(std::span<const glm::dvec3> targets, std::uint64_t& generation);
+    // deform/edit.hpp). `staging` holds the caller's lock over `targets`:
+    // they are copied under it, and it is let go before the scheduler hears
+    // of them (which may call the host's job system). Never waits for a
+    // solve or the set-up. A failed set-up or a closed scheduler is refused
+    // and nothing is queued.
+    Status submit(std::span<const glm::dvec3> targets, std::unique_lock<std::mutex>& staging,
+                  std::uint64_t& generation);
 
     // Drops queued targets and stops the running solve after its current
     // iteration; returns once no solve runs (a running set-up goes on).
@@ -136,7 +146,8 @@ public:
     // solve to end.
     Status set_stopping_rule(double tolerance, int max_iterations);
 
-    // Whether the set-up still runs, and how it ended once it has.
+    // Whether the set-up still runs (false once the frame that ends it is
+    // published), and how it ended once it has.
     bool preparing() const;
     Status setup_status() const;
 
@@ -234,7 +245,11 @@ private:
                            jobs::Clock::time_point deadline, bool resume);
     // The session's positions, or the rest pose before a set-up.
     std::span<const glm::dvec3> current_positions() const;
-    void publish(std::uint64_t generation, const SolveReport& report, Errc status, bool partial);
+    // Publishes the session's current positions as the newest frame; with
+    // `ends_set_up`, the frame that ends the set-up, which preparing()
+    // turns false with.
+    void publish(std::uint64_t generation, const SolveReport& report, Errc status, bool partial,
+                 bool ends_set_up = false);
     // Sizes a slot's arrays for the ROI and (once built) the normals.
     void size_frame(Frame& frame) const;
     // Fills a sized slot from the session's current positions.

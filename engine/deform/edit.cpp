@@ -27,13 +27,15 @@ Status Edit::create(std::shared_ptr<const MeshModel> model, std::vector<std::uin
     e->settings_.pool = &scheduler;
     e->on_frame_ = std::move(on_frame);
     e->solving_.resize(e->handle_vertices_.size());
-    if (Status s = e->start(std::move(model), 0, 0); !s) return s;
+    std::unique_ptr<AsyncSession> none;
+    if (Status s = e->start(std::move(model), 0, 0, none); !s) return s;
+    e->async_->begin();
     out = std::move(e);
     return Status::ok();
 }
 
 Status Edit::start(std::shared_ptr<const MeshModel> model, std::uint64_t first_generation,
-                   std::uint64_t submitted_through) {
+                   std::uint64_t submitted_through, std::unique_ptr<AsyncSession>& previous) {
     std::vector<glm::dvec3> handle_rest;
     handle_rest.reserve(handle_vertices_.size());
     for (std::uint32_t v : handle_vertices_) handle_rest.push_back(model->mesh.positions[v]);
@@ -54,7 +56,7 @@ Status Edit::start(std::shared_ptr<const MeshModel> model, std::uint64_t first_g
     }
     {
         std::lock_guard<std::mutex> lock(staging_mutex_);
-        async_.reset();
+        previous = std::move(async_);
         async_ = std::move(async);
         model_ = std::move(model);
         staged_ = handle_rest;
@@ -114,8 +116,8 @@ Status Edit::set_group_transform(std::size_t group, const double* matrix) {
 Status Edit::submit(std::uint64_t& generation) {
     // The queue takes its copy under the staging lock, so no other
     // thread's staging can change what is read.
-    std::lock_guard<std::mutex> lock(staging_mutex_);
-    return async_->submit(staged_, generation);
+    std::unique_lock<std::mutex> lock(staging_mutex_);
+    return async_->submit(staged_, lock, generation);
 }
 
 Status Edit::solve(std::uint64_t& generation, bool& converged) {
@@ -185,7 +187,18 @@ Status Edit::bake(RestPoses& poses, std::uint64_t generation, std::shared_ptr<Me
     // undo slips in; it does not wait for the new set-up.
     const std::shared_ptr<const MeshModel> from = model_;
     const std::uint64_t submitted = async_->submitted_generation();
-    return poses.add_step(from, baked, [&] { return start(baked, baked_generation, submitted); });
+    // The session's solve stops first, with no lock held: its frames and
+    // their on_frame, which may call the library, end before the edit turns
+    // to the new session.
+    async_->cancel();
+    std::unique_ptr<AsyncSession> previous;
+    const Status restarted = poses.add_step(
+        from, baked, [&] { return start(baked, baked_generation, submitted, previous); });
+    // With the lock let go: the earlier session goes and the new set-up is
+    // queued (which may call the host's job system).
+    previous.reset();
+    if (restarted) async_->begin();
+    return restarted;
 }
 
 const std::vector<glm::dvec3>& Edit::rest_normals() {

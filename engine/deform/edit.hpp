@@ -76,7 +76,9 @@ public:
     // into `poses` as a new step, built in `baked`, and starts the edit
     // again on the new pose with identity transforms; generations go on
     // growing. Errc::busy while a frame is held, while the set-up runs, or
-    // when `poses` has another current pose than the edit's.
+    // when `poses` has another current pose than the edit's. Queued and
+    // running solves are cancelled once the frame is baked, also when the
+    // new step then fails (the pose changed meanwhile, out of memory).
     Status bake(RestPoses& poses, std::uint64_t generation, std::shared_ptr<MeshModel> baked);
 
     AsyncSession& async() { return *async_; }
@@ -97,11 +99,14 @@ public:
 
 private:
     Edit(jobs::Scheduler& scheduler) : scheduler_(scheduler) {}
-    // Starts an AsyncSession on `model` (after a bake: the baked pose) and
-    // stages identity transforms; the earlier one stops only once the new
-    // one exists, so a failure leaves the edit as it was.
+    // Makes an AsyncSession on `model` (after a bake: the baked pose), its
+    // set-up not yet queued (AsyncSession::begin), and stages identity
+    // transforms; the earlier one goes to `previous` only once the new one
+    // exists, so a failure leaves the edit as it was. The caller stops the
+    // earlier one and queues the set-up with no lock held: both may call
+    // the host (on_frame, the job system's enqueue).
     Status start(std::shared_ptr<const MeshModel> model, std::uint64_t first_generation,
-                 std::uint64_t submitted_through);
+                 std::uint64_t submitted_through, std::unique_ptr<AsyncSession>& previous);
 
     jobs::Scheduler& scheduler_;
     std::shared_ptr<const MeshModel> model_;
@@ -112,8 +117,9 @@ private:
     DeformSettings settings_;
     AsyncSession::FrameHook on_frame_;
     // The staged targets, one per handle vertex, and the handles' rest
-    // positions the transforms apply to. A submit hands them over under the
-    // lock, which no solve holds.
+    // positions the transforms apply to. A submit copies them under the
+    // lock, which no solve holds, and lets it go before the scheduler hears
+    // of them.
     mutable std::mutex staging_mutex_;
     std::vector<glm::dvec3> staged_;
     std::vector<glm::dvec3> handle_rest_;

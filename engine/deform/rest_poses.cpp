@@ -128,12 +128,11 @@ Status RestPoses::set_skin_pose(mesh::SkinPose pose) {
     const std::vector<glm::dvec3>& bind = current_.bind->mesh.positions;
     std::vector<glm::dvec3> posed(bind.size());
     mesh::pose_positions(*skin_, pose, bind, posed);
-    for (std::size_t v = 0; v < posed.size(); ++v) {
-        if (!std::isfinite(posed[v].x) || !std::isfinite(posed[v].y) ||
-            !std::isfinite(posed[v].z)) {
-            return Status(Errc::numerical, "the pose puts vertex " + std::to_string(v) +
-                                               " at a position that is not finite; the pose "
-                                               "was not set");
+    for (const glm::dvec3& p : posed) {
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            return Status(Errc::numerical,
+                          "the pose puts vertices at positions that are not finite (its "
+                          "matrices overflow the shape); the pose was not set");
         }
     }
     pose_ = std::move(pose);

@@ -93,15 +93,18 @@ void blend(const Skin& skin, const SkinPose& pose, std::size_t v, double m[12]) 
     }
 }
 
-// The singular values' ratio of a 3x3 matrix (column-major), from the
-// eigenvalues of its Gram matrix by cyclic Jacobi rotations; infinite for a
-// singular one.
-double condition_number(const double m[9]) {
+// The largest and smallest singular values of a 3x3 matrix (column-major),
+// from the eigenvalues of its Gram matrix by cyclic Jacobi rotations.
+struct Singular {
+    double largest = 0.0;
+    double smallest = 0.0;
+};
+
+Singular singular_values(const double m[9]) {
     double g[3][3];
     for (int a = 0; a < 3; ++a) {
         for (int b = 0; b < 3; ++b) {
-            g[a][b] =
-                m[3 * a] * m[3 * b] + m[3 * a + 1] * m[3 * b + 1] + m[3 * a + 2] * m[3 * b + 2];
+            g[a][b] = m[3 * a] * m[3 * b] + m[3 * a + 1] * m[3 * b + 1] + m[3 * a + 2] * m[3 * b + 2];
         }
     }
     for (int sweep = 0; sweep < 32; ++sweep) {
@@ -130,8 +133,7 @@ double condition_number(const double m[9]) {
     }
     const double hi = std::max({g[0][0], g[1][1], g[2][2]});
     const double lo = std::min({g[0][0], g[1][1], g[2][2]});
-    if (!(hi > 0.0) || !(lo > 0.0)) return INFINITY;
-    return std::sqrt(hi / lo);
+    return {std::sqrt(std::max(hi, 0.0)), std::sqrt(std::max(lo, 0.0))};
 }
 
 // Solves a x = b for a 3x3 matrix (column-major) by Gaussian elimination
@@ -164,16 +166,11 @@ glm::dvec3 solve3(const double m[9], const glm::dvec3& b) {
     return x;
 }
 
-// The damped least-squares solution (a^T a + l^2 I) x = a^T b, with l a
-// 1/max_condition of a's largest singular value: it leaves the well-determined
-// directions nearly exact and bounds the others.
-glm::dvec3 damped_solve(const double m[9], const glm::dvec3& b) {
+// The damped least-squares solution (a^T a + l^2 I) x = a^T b, with l the
+// floor a well-determined direction keeps (CorrectiveReport): the
+// well-determined directions stay nearly exact, the others bounded.
+glm::dvec3 damped_solve(const double m[9], double floor, const glm::dvec3& b) {
     double g[9];
-    double frobenius = 0.0;
-    for (int i = 0; i < 9; ++i) frobenius += m[i] * m[i];
-    if (!(frobenius > 0.0)) return glm::dvec3(0.0);
-    const double lambda2 =
-        frobenius / (CorrectiveReport::max_condition * CorrectiveReport::max_condition);
     glm::dvec3 atb;
     for (int a = 0; a < 3; ++a) {
         atb[a] = m[3 * a] * b.x + m[3 * a + 1] * b.y + m[3 * a + 2] * b.z;
@@ -181,7 +178,7 @@ glm::dvec3 damped_solve(const double m[9], const glm::dvec3& b) {
             g[3 * c + a] =
                 m[3 * a] * m[3 * c] + m[3 * a + 1] * m[3 * c + 1] + m[3 * a + 2] * m[3 * c + 2];
         }
-        g[3 * a + a] += lambda2;
+        g[3 * a + a] += floor * floor;
     }
     return solve3(g, atb);
 }
@@ -308,14 +305,19 @@ void corrective_positions(const Skin& skin, const SkinPose& pose, std::span<cons
         }
         double m[12];
         blend(skin, pose, v, m);
-        const double condition = condition_number(m);
+        const Singular sigma = singular_values(m);
+        const double condition = sigma.smallest > 0.0 ? sigma.largest / sigma.smallest : INFINITY;
         if (report.worst_vertex == no_index || condition > report.worst_condition) {
             report.worst_condition = condition;
             report.worst_vertex = static_cast<std::uint32_t>(v);
         }
-        const bool damped = !(condition <= CorrectiveReport::max_condition);
+        // Skinning maps lengths nearly as a rotation does (singular values
+        // about 1); a direction it shrinks below the floor, relative to
+        // the larger of 1 and its largest stretch, is a collapse.
+        const double floor = std::max(sigma.largest, 1.0) / CorrectiveReport::max_condition;
+        const bool damped = !(sigma.smallest >= floor);
         if (damped) report.damped.push_back(static_cast<std::uint32_t>(v));
-        bind_after[v] = bind[v] + (damped ? damped_solve(m, moved) : solve3(m, moved));
+        bind_after[v] = bind[v] + (damped ? damped_solve(m, floor, moved) : solve3(m, moved));
     }
 }
 

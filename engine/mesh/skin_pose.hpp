@@ -62,9 +62,12 @@ struct CorrectiveReport {
     std::size_t moved = 0;         // vertices whose posed position changed
     double worst_condition = 1.0;  // the largest condition number of L_v among them
     std::uint32_t worst_vertex = no_index;
-    // Vertices whose L_v has a condition number above max_condition (or is
-    // zero): their corrective is the damped least-squares one, so the posed
-    // edit is met only approximately there. Ascending.
+    // Vertices whose L_v shrinks some direction below the floor, the larger
+    // of 1 and its largest singular value over max_condition: weights that
+    // cancel (a condition number above max_condition) or a collapsed joint
+    // (a tiny L_v, whatever its condition). Their corrective is the damped
+    // least-squares one, the floor its damping, so the posed edit is met
+    // only approximately there. Ascending.
     std::vector<std::uint32_t> damped;
 
     static constexpr double max_condition = 1e3;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/status.hpp"
+#include "descriptor_layouts.hpp"
 #include "dualform/dualform.h"
 #include "error_state.hpp"
 
@@ -82,21 +83,26 @@ inline dfm_result bad_handle(const char* function, const char* parameter, const 
                       (handle == nullptr ? " is NULL" : " is not a live handle of its kind"));
 }
 
-// Copies a host descriptor that begins with `uint32_t struct_size` into
-// `out` (zeroed first), reading only the bytes the host's struct has.
-// `first_size` is what struct_size 0 stands for (the struct's size when the
-// field appeared). A larger struct than ours is accepted only when the bytes
-// we do not know are zero.
+// The bytes of a host's struct that begins with struct_size: what its
+// struct_size says, 0 standing for the first layout (descriptor_layouts.hpp).
 template <class Desc>
-dfm_result read_descriptor(const char* function, const char* name, const Desc* in,
-                           std::size_t first_size, Desc& out) {
+std::size_t host_struct_size(std::uint32_t struct_size) {
+    return struct_size != 0 ? struct_size : FirstLayout<Desc>::size;
+}
+
+// Copies a host descriptor that begins with `uint32_t struct_size` into
+// `out` (zeroed first), reading only the bytes the host's struct has. A
+// larger struct than ours is accepted only when the bytes we do not know
+// are zero.
+template <class Desc>
+dfm_result read_descriptor(const char* function, const char* name, const Desc* in, Desc& out) {
     std::memset(&out, 0, sizeof out);
     if (in == nullptr)
         return report(function, DFM_ERROR_INVALID_ARGUMENT, std::string(name) + " is NULL");
-    std::uint32_t size = 0;
-    std::memcpy(&size, in, sizeof size);
-    if (size == 0) size = static_cast<std::uint32_t>(first_size);
-    if (size < sizeof size) {
+    std::uint32_t struct_size = 0;
+    std::memcpy(&struct_size, in, sizeof struct_size);
+    const std::size_t size = host_struct_size<Desc>(struct_size);
+    if (size < sizeof struct_size) {
         return report(function, DFM_ERROR_INVALID_ARGUMENT,
                       std::string(name) + "->struct_size " + std::to_string(size) +
                           " is smaller than the field itself");
@@ -117,6 +123,3 @@ dfm_result read_descriptor(const char* function, const char* name, const Desc* i
 }
 
 }  // namespace dfm::sdk
-
-// The end of a struct's member: the struct_size of a layout that ended there.
-#define DFM_END_OF(type, member) (offsetof(type, member) + sizeof(((type*)nullptr)->member))

@@ -41,9 +41,6 @@ using namespace dfm::sdk;
 
 namespace {
 
-// What struct_size 0 stands for: dfm_context_desc as version 0.2 had it.
-constexpr std::size_t context_desc_0_2 = DFM_END_OF(dfm_context_desc, models_directory);
-
 // The longest budget dfm_context_step takes as one: a day.
 constexpr std::uint64_t longest_step_us = 86'400'000'000;
 
@@ -111,8 +108,7 @@ extern "C" DFM_API dfm_result dfm_context_create(const dfm_context_desc* desc, d
         *out = nullptr;
         dfm_context_desc d{};
         if (desc != nullptr) {
-            if (dfm_result r = read_descriptor(fn, "desc", desc, context_desc_0_2, d);
-                r != DFM_OK) {
+            if (dfm_result r = read_descriptor(fn, "desc", desc, d); r != DFM_OK) {
                 return r;
             }
         }

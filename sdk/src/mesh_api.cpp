@@ -138,9 +138,6 @@ std::string drop_repeating_triangles(mesh::Mesh& m) {
            ")";
 }
 
-// What struct_size 0 stands for: dfm_mesh_desc as version 0.2 had it.
-constexpr std::size_t mesh_desc_0_2 = DFM_END_OF(dfm_mesh_desc, index_stride);
-
 // The weld a descriptor asks for; the mode read as an integer, since a host
 // may pass any value.
 Status weld_from(const dfm_mesh_desc& d, const mesh::Mesh& host, mesh::WeldOptions& out) {
@@ -175,7 +172,7 @@ extern "C" DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_me
         ContextObject* c = resolve_context(context);
         if (c == nullptr) return bad_handle(fn, "context", context);
         dfm_mesh_desc d;
-        if (dfm_result r = read_descriptor(fn, "desc", desc, mesh_desc_0_2, d); r != DFM_OK) {
+        if (dfm_result r = read_descriptor(fn, "desc", desc, d); r != DFM_OK) {
             return r;
         }
         if (std::string e = check_vec3_input(&d.positions, "desc->positions"); !e.empty()) {
@@ -262,8 +259,6 @@ extern "C" DFM_API dfm_result dfm_mesh_load_with_report(dfm_context* context, co
 
 namespace {
 
-constexpr std::size_t save_options_0_2 = DFM_END_OF(dfm_save_options, obj_normals);
-
 // dfm_mesh_save and dfm_mesh_save_with_options (`options` NULL: the defaults).
 dfm_result save_mesh_call(const char* fn, const dfm_mesh* mesh, const char* path,
                           const dfm_save_options* options) {
@@ -274,8 +269,7 @@ dfm_result save_mesh_call(const char* fn, const dfm_mesh* mesh, const char* path
         mesh::WriteOptions write;
         if (options != nullptr) {
             dfm_save_options o;
-            if (dfm_result r = read_descriptor(fn, "options", options, save_options_0_2, o);
-                r != DFM_OK) {
+            if (dfm_result r = read_descriptor(fn, "options", options, o); r != DFM_OK) {
                 return r;
             }
             // Read as an integer: a host's out-of-range value is not an enum load.

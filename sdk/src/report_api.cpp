@@ -22,7 +22,6 @@ using namespace dfm::sdk;
 namespace {
 
 constexpr std::uint32_t max_subdivision_steps = 3;
-constexpr std::size_t solve_details_first = DFM_END_OF(dfm_solve_details, predicted);
 
 // The session report calls' one opening: `info` cleared (when given), the
 // session resolved, `out` checked and cleared; then `body(session, out)`.
@@ -89,12 +88,11 @@ extern "C" DFM_API dfm_result dfm_session_get_solve_details(dfm_session* session
         if (s == nullptr) return bad_handle(fn, "session", session);
         // The host's struct_size says how many bytes are its own to write.
         dfm_solve_details details;
-        if (dfm_result r = read_descriptor(fn, "out", out, solve_details_first, details);
-            r != DFM_OK) {
+        if (dfm_result r = read_descriptor(fn, "out", out, details); r != DFM_OK) {
             return r;
         }
         const std::uint32_t struct_size = details.struct_size;
-        const std::size_t size = struct_size != 0 ? struct_size : solve_details_first;
+        const std::size_t size = host_struct_size<dfm_solve_details>(struct_size);
         details = dfm_solve_details{};
         details.struct_size = struct_size;
         const deform::SetupReport setup = s->edit->async().setup_report();

@@ -32,8 +32,6 @@ namespace {
 
 constexpr double default_tolerance = 1e-5;
 constexpr std::uint32_t default_max_iterations = 100;
-// What struct_size 0 stands for: dfm_session_desc as version 0.2 had it.
-constexpr std::size_t session_desc_0_2 = DFM_END_OF(dfm_session_desc, on_frame_user);
 
 // The field read as an integer, as the method: a host may pass any value.
 std::underlying_type_t<dfm_preconditioner> preconditioner_value(const dfm_preconditioner& in) {
@@ -155,7 +153,7 @@ extern "C" DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_sessi
         MeshObject* m = resolve_mesh(mesh);
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
         dfm_session_desc d;
-        if (dfm_result r = read_descriptor(fn, "desc", desc, session_desc_0_2, d); r != DFM_OK) {
+        if (dfm_result r = read_descriptor(fn, "desc", desc, d); r != DFM_OK) {
             return r;
         }
         RoiObject* roi = resolve_roi(d.roi);
@@ -441,9 +439,6 @@ dfm_result read_whole(const char* fn, dfm_session* session, const dfm_vec3_outpu
 
 namespace {
 
-// What struct_size 0 stands for: dfm_vertex_output as version 0.2 had it.
-constexpr std::size_t vertex_output_0_2 = DFM_END_OF(dfm_vertex_output, changed_only);
-
 void put_float3(const dfm_vertex_output& out, std::size_t vertex, std::size_t offset,
                 const float* xyz) {
     std::memcpy(static_cast<char*>(out.data) + vertex * out.stride + offset, xyz,
@@ -469,7 +464,7 @@ extern "C" DFM_API dfm_result dfm_session_read_vertices(dfm_session* session,
         SessionObject* s = session_of(fn, session, r);
         if (s == nullptr) return r;
         dfm_vertex_output o;
-        if (r = read_descriptor(fn, "out", out, vertex_output_0_2, o); r != DFM_OK) return r;
+        if (r = read_descriptor(fn, "out", out, o); r != DFM_OK) return r;
         const deform::MeshModel& model = s->edit->async().model();
         const HostNumbering numbering(*s->mesh, model.mesh.vertex_count());
         const std::size_t n = numbering.host_count();

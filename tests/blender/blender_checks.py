@@ -11,16 +11,14 @@ blender -b --factory-startup --python-exit-code 1 --python blender_checks.py --
 import json
 import os
 import sys
-import time
-import types
 from pathlib import Path
 
-import bmesh
 import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from blender_arrays import key_positions, positions, shown  # noqa: E402
+from blender_steps import drag_stand_in, event, run_timer_until, select_in_order  # noqa: E402
 from documented_install import install_as_documented  # noqa: E402
 
 ply_path, out_dir, hoof_file, *moves = sys.argv[sys.argv.index("--") + 1:]
@@ -29,20 +27,6 @@ translate = tuple(float(t) for t in moves[:3])
 second_translate = tuple(float(t) for t in moves[3:])
 hoof = [int(v) for v in Path(hoof_file).read_text().split()]
 results = {}
-
-
-def select_in_order(obj, vertices) -> None:
-    bpy.context.view_layer.objects.active = obj
-    bpy.ops.object.mode_set(mode="EDIT")
-    bm = bmesh.from_edit_mesh(obj.data)
-    bm.verts.ensure_lookup_table()
-    for v in bm.verts:
-        v.select = False
-    bm.select_history.clear()
-    for i in vertices:
-        bm.verts[i].select = True
-        bm.select_history.add(bm.verts[i])
-    bmesh.update_edit_mesh(obj.data)
 
 
 def duplicate(obj, name):
@@ -56,7 +40,7 @@ def duplicate(obj, name):
 # -- install and enable
 install_as_documented()
 import dualform  # noqa: E402  (importable once the add-on is enabled)
-from dualform_blender import bridge, operators  # noqa: E402
+from dualform_blender import bridge  # noqa: E402
 
 results["enabled"] = "dualform_blender" in bpy.context.preferences.addons
 results["package"] = dualform.__file__
@@ -118,50 +102,10 @@ except RuntimeError as error:
     results["mesh_with_keys"] = str(error)
 
 
-# -- the modal operator, driven by synthetic events. Its window-free steps
-# run on a stand-in for the operator; the mouse maps linearly to the
-# translation (a 3D view's mapping needs a window).
-class LinearMapping:
-    def translation(self, start, now):
-        return np.array([(now[0] - start[0]) / 1024.0, (now[1] - start[1]) / 1024.0, 0.0])
-
-    def view_axis(self):
-        return np.array([0.0, 0.0, 1.0])
-
-    def angle(self, start, now):
-        return 0.0
-
-
-def modal_driver(obj):
-    driver = types.SimpleNamespace(keep="MESH", key_name="", bl_label="Dualform Drag",
-                                   report=lambda kind, text: print(kind, text))
-    op = operators.DUALFORM_OT_drag
-    for name in ("start", "modal", "_end", "_motion", "_header", "_restore_mode"):
-        setattr(driver, name, getattr(op, name).__get__(driver))
-    bpy.context.view_layer.objects.active = obj
-    assert driver.start(bpy.context, obj)
-    driver.mapping = LinearMapping()
-    driver.mouse_start = (0, 0)
-    return driver
-
-
-def event(kind, x=0, y=0, value="NOTHING"):
-    return types.SimpleNamespace(type=kind, value=value, mouse_region_x=x, mouse_region_y=y)
-
-
-def run_timer_until(driver, done, limit=30.0):
-    end = time.monotonic() + limit
-    while time.monotonic() < end:
-        state = driver.modal(bpy.context, event("TIMER"))
-        if done(state):
-            return state
-        time.sleep(0.005)
-    raise RuntimeError("the drag did not settle")
-
-
+# -- the modal operator, driven by synthetic events (blender_steps.py)
 # 1024 pixels a unit: the test's translation lands on whole pixels.
 mouse_end = (round(translate[0] * 1024), round(translate[1] * 1024))
-driver = modal_driver(dragged)
+driver = drag_stand_in(dragged)
 for step in range(1, 11):
     driver.modal(bpy.context, event("MOUSEMOVE", mouse_end[0] * step // 10,
                                     mouse_end[1] * step // 10))
@@ -171,7 +115,7 @@ results["modal_enter"] = list(run_timer_until(driver, lambda s: s != {"RUNNING_M
 np.save(out / "modal.npy", positions(dragged))
 
 rest_bytes = positions(escaped).tobytes()
-driver = modal_driver(escaped)
+driver = drag_stand_in(escaped)
 driver.modal(bpy.context, event("MOUSEMOVE", *mouse_end))
 run_timer_until(driver, lambda s: driver.drag.applied > 0)
 results["escape_moved_first"] = positions(escaped).tobytes() != rest_bytes

@@ -13,12 +13,12 @@ import os
 import sys
 from pathlib import Path
 
-import bmesh
 import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from blender_arrays import positions  # noqa: E402
+from blender_steps import select_vertices  # noqa: E402
 from documented_install import install_as_documented  # noqa: E402
 
 ply_path, out_dir, hoof_file = sys.argv[sys.argv.index("--") + 1:]
@@ -36,18 +36,6 @@ def view3d():
     raise RuntimeError("no 3D view")
 
 
-def select(obj, vertices):
-    bm = bmesh.from_edit_mesh(obj.data)
-    bm.verts.ensure_lookup_table()
-    for v in bm.verts:
-        v.select = False
-    bm.select_history.clear()
-    for i in vertices:
-        bm.verts[i].select = True
-        bm.select_history.add(bm.verts[i])
-    bmesh.update_edit_mesh(obj.data)
-
-
 def prepare(window, area, region):
     install_as_documented()
     for o in list(bpy.data.objects):
@@ -57,9 +45,9 @@ def prepare(window, area, region):
     bpy.context.view_layer.objects.active = cow
     with bpy.context.temp_override(window=window, area=area, region=region):
         bpy.ops.object.mode_set(mode="EDIT")
-        select(cow, [771, 681])
+        select_vertices(cow, [771, 681])
         bpy.ops.dualform.water_fill_roi()
-        select(cow, hoof)
+        select_vertices(cow, hoof)
         bpy.ops.dualform.add_handle()
         bpy.ops.object.mode_set(mode="OBJECT")
         bpy.ops.view3d.view_all()

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -317,4 +319,70 @@ TEST_CASE("jobs: close gives queued tasks a closing run, waits for jobs out, ref
     CHECK_FALSE(scheduler.post(a));
     host.run_held();
     CHECK(host.jobs_run() == 1);
+}
+
+namespace {
+
+// A host's job system whose enqueue asks the scheduler how much is queued
+// (which takes its lock) from another thread it waits for, then itself.
+struct AskingHost {
+    HostQueue queue{2};
+    HostJobs inner = queue.hooks();
+    Scheduler* scheduler = nullptr;
+    std::atomic<int> asked{0};
+    std::atomic<int> blocked{0};
+    std::mutex mutex;
+    std::vector<std::thread> late;  // blocked askers, joined at the end
+
+    static void enqueue(void* user, void* job) {
+        auto* self = static_cast<AskingHost*>(user);
+        if (self->blocked == 0) {
+            auto answered = std::make_shared<std::atomic<bool>>(false);
+            std::thread other([self, answered] {
+                static_cast<void>(self->scheduler->queued());
+                *answered = true;
+            });
+            const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+            while (!*answered && std::chrono::steady_clock::now() < until)
+                std::this_thread::sleep_for(std::chrono::microseconds(100));
+            if (*answered) {
+                other.join();
+                static_cast<void>(self->scheduler->queued());
+                ++self->asked;
+            } else {
+                ++self->blocked;
+                std::lock_guard<std::mutex> lock(self->mutex);
+                self->late.push_back(std::move(other));
+            }
+        }
+        self->inner.enqueue(self->inner.user, job);
+    }
+};
+
+}  // namespace
+
+TEST_CASE("jobs: the host's enqueue runs with the scheduler's lock let go") {
+    AskingHost host;
+    std::string journal;
+    std::mutex mutex;
+    std::vector<std::unique_ptr<NamedTask>> tasks;
+    {
+        Scheduler scheduler(SchedulerConfig::jobs(2, {&AskingHost::enqueue, &host}));
+        host.scheduler = &scheduler;
+        // Posts, a loop's helpers and the jobs' own hand-overs.
+        for (char name = 'A'; name <= 'F'; ++name) {
+            tasks.push_back(std::make_unique<NamedTask>(name, journal, mutex));
+            scheduler.post(*tasks.back());
+        }
+        std::vector<std::atomic<int>> calls(64);
+        scheduler.run(64, [&](std::size_t i) { calls[i].fetch_add(1); });
+        for (;;) {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (journal.size() == tasks.size()) break;
+        }
+        scheduler.close();
+    }
+    for (std::thread& t : host.late) t.join();
+    CHECK(host.blocked == 0);
+    CHECK(host.asked > 0);
 }

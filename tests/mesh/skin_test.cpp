@@ -220,6 +220,32 @@ TEST_CASE("skin: cancelling weights take the damped inverse and are reported") {
     CHECK(glm::length(replayed[1] - after[1]) < 1e-12);
 }
 
+TEST_CASE("skin: a collapsed joint takes the damped inverse, whatever its condition number") {
+    // Vertex 0 wholly on a joint scaled to a millionth: L_v = 1e-6 I, a
+    // condition number of 1, and an exact inverse that would throw the bind
+    // shape a million times the edit away.
+    const std::vector<glm::dmat4> ibm = {glm::dmat4(1.0), glm::dmat4(1.0)};
+    mesh::Skin skin;
+    REQUIRE(mesh::skin_from_arrays(3, 1, std::vector<std::uint32_t>{1, 0, 0},
+                                   std::vector<double>{1.0, 1.0, 1.0}, ibm, skin));
+    const std::vector<glm::dmat4> world = {glm::dmat4(1.0),
+                                           glm::scale(glm::dmat4(1.0), glm::dvec3(1e-6))};
+    mesh::SkinPose pose;
+    REQUIRE(mesh::pose_from_joints(skin, world, {}, pose));
+    const std::vector<glm::dvec3> bind = {{0, 1, 0}, {1, 0, 0}, {0, 0, 1}};
+    std::vector<glm::dvec3> before(3), bind_after;
+    mesh::pose_positions(skin, pose, bind, before);
+    std::vector<glm::dvec3> after = before;
+    after[0] += glm::dvec3(0.1, 0.0, 0.0);
+    mesh::CorrectiveReport report;
+    mesh::corrective_positions(skin, pose, bind, before, after, bind_after, report);
+    REQUIRE(report.damped == std::vector<std::uint32_t>{0});
+    CHECK(report.worst_condition == doctest::Approx(1.0));
+    // Damped at a thousandth, the bind shape moves no farther than the edit
+    // (sigma / (sigma^2 + 1e-6) < 1), not a million times as far.
+    CHECK(glm::length(bind_after[0] - bind[0]) <= 0.1);
+}
+
 TEST_CASE("skin: host arrays are checked, weights normalised, zero weights dropped") {
     const std::vector<glm::dmat4> ibm = {glm::dmat4(1.0), glm::dmat4(1.0)};
     mesh::Skin skin;

@@ -116,6 +116,28 @@ TEST_CASE("setup: create returns with the rest pose, the set-up ends on the work
     for (const std::thread::id& id : log.threads) CHECK(id != std::this_thread::get_id());
 }
 
+TEST_CASE("setup: a wait that says the set-up has ended finds the frame that ends it") {
+    // A host polls with a zero timeout: DFM_OK only once the newest frame
+    // no longer says `preparing`, never in between.
+    Limb limb(64, 120);
+    const dfm_handle_group group = {limb.tip.data(), limb.tip.size()};
+    const dfm_session_desc desc = limb.desc(&group);
+    int early = 0;
+    for (int round = 0; round < 16; ++round) {
+        dfm_session* session = nullptr;
+        REQUIRE_MESSAGE(dfm_session_create(limb.mesh, &desc, &session) == DFM_OK, last_error());
+        dfm_result waited = DFM_ERROR_BUSY;
+        dfm_frame_info info = {};
+        while (waited == DFM_ERROR_BUSY) waited = dfm_session_wait(session, 0, 0, &info);
+        REQUIRE_MESSAGE(waited == DFM_OK, last_error());
+        dfm_frame_info polled = {};
+        REQUIRE(dfm_session_poll(session, 0, &polled, nullptr) == DFM_OK);
+        if (info.preparing || polled.preparing) ++early;
+        dfm_session_destroy(session);
+    }
+    CHECK(early == 0);
+}
+
 TEST_CASE("setup: cancel and destroy right after create, while the set-up runs") {
     Limb limb(32, 60);
     const dfm_handle_group group = {limb.tip.data(), limb.tip.size()};

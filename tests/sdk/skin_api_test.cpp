@@ -36,8 +36,10 @@ std::vector<glm::dvec3> read_positions(const dfm_mesh* mesh, bool bind = false) 
     return out;
 }
 
+// `name` is the test case's own: CTest runs the cases side by side, and a
+// scratch folder is made anew by each that asks for it.
 dfm_mesh* load_limb(dfm_context* context, const SkinnedLimb& limb, const char* name) {
-    const auto dir = scratch_dir("skin_api");
+    const auto dir = scratch_dir(std::string("skin_api_") + name);
     write_text(dir / name, limb.glb);
     dfm_mesh* mesh = nullptr;
     REQUIRE_MESSAGE(dfm_mesh_load(context, (dir / name).string().c_str(), &mesh) == DFM_OK,
@@ -99,7 +101,7 @@ void lift_and_bake(dfm_mesh* mesh, const HandLift& lift, double dx, double dy) {
 TEST_CASE("skin api: a skinned glTF lists its joints, animations and morph targets") {
     Context c;
     const SkinnedLimb limb = make_skinned_limb(12, 10);
-    dfm_mesh* mesh = load_limb(c.context, limb, "limb.glb");
+    dfm_mesh* mesh = load_limb(c.context, limb, "listed.glb");
     dfm_skin_info info = {};
     REQUIRE(dfm_mesh_get_skin_info(mesh, &info) == DFM_OK);
     CHECK(info.joint_count == 2);
@@ -137,7 +139,7 @@ TEST_CASE("skin api: a skinned glTF lists its joints, animations and morph targe
 TEST_CASE("skin api: posing by animation or by joint matrices shows the skinned shape") {
     Context c;
     const SkinnedLimb limb = make_skinned_limb(12, 10);
-    dfm_mesh* mesh = load_limb(c.context, limb, "limb.glb");
+    dfm_mesh* mesh = load_limb(c.context, limb, "posing.glb");
     // Without a pose the mesh is its bind pose, as it always was.
     const std::vector<glm::dvec3> bind = read_positions(mesh);
     CHECK(largest_distance(bind, limb.mesh.positions) == 0.0);
@@ -178,7 +180,7 @@ TEST_CASE("skin api: a posed edit is the static copy's edit, and its bake an exa
     Context c;
     const SkinnedLimb limb = make_skinned_limb(16, 24);
     const HandLift lift = hand_lift(limb);
-    dfm_mesh* posed = load_limb(c.context, limb, "limb.glb");
+    dfm_mesh* posed = load_limb(c.context, limb, "posed-edit.glb");
     REQUIRE(dfm_mesh_set_pose_animation(posed, 0, 1.0) == DFM_OK);
     const std::vector<glm::dvec3> shown = read_positions(posed);
 
@@ -230,7 +232,7 @@ TEST_CASE("skin api: a corrective saved as a morph target replays the edit in fl
     Context c;
     const SkinnedLimb limb = make_skinned_limb(16, 24);
     const auto dir = scratch_dir("skin_api_save");
-    dfm_mesh* mesh = load_limb(c.context, limb, "limb.glb");
+    dfm_mesh* mesh = load_limb(c.context, limb, "saved.glb");
     REQUIRE(dfm_mesh_set_pose_animation(mesh, 0, 1.0) == DFM_OK);
     lift_and_bake(mesh, hand_lift(limb), 0.0, 0.3);
     const std::vector<glm::dvec3> edited = read_positions(mesh);
@@ -268,7 +270,7 @@ TEST_CASE("skin api: a pose change stops earlier sessions' bakes") {
     Context c;
     const SkinnedLimb limb = make_skinned_limb(12, 12);
     const HandLift lift = hand_lift(limb);
-    dfm_mesh* mesh = load_limb(c.context, limb, "limb.glb");
+    dfm_mesh* mesh = load_limb(c.context, limb, "pose-change.glb");
     dfm_roi* roi = nullptr;
     REQUIRE(dfm_roi_from_vertices(mesh, lift.roi.data(), lift.roi.size(), &roi) == DFM_OK);
     dfm_handle_group group = {lift.hand.data(), lift.hand.size()};
@@ -289,7 +291,7 @@ TEST_CASE("skin api: a pose change stops earlier sessions' bakes") {
 TEST_CASE("skin api: bad poses and skins are refused, naming what is wrong") {
     Context c;
     const SkinnedLimb limb = make_skinned_limb(8, 6);
-    dfm_mesh* mesh = load_limb(c.context, limb, "limb.glb");
+    dfm_mesh* mesh = load_limb(c.context, limb, "refusals.glb");
     const std::vector<glm::dvec3> bind = read_positions(mesh);
     CHECK(dfm_mesh_set_pose_animation(mesh, 0, NAN) == DFM_ERROR_NUMERICAL);
     CHECK(dfm_mesh_set_pose_animation(mesh, 5, 0.0) == DFM_ERROR_OUT_OF_RANGE);

@@ -184,6 +184,64 @@ TEST_CASE("work modes: with the host's job system or steps the library starts no
     }
 }
 
+TEST_CASE("work modes: a descriptor of struct_size 0, the 0.2 layout, keeps its mode") {
+    // The pool: its threads, and no stepping.
+    dfm_context_desc pool = {};
+    pool.worker_count = 2;
+    std::size_t before = threads_created();
+    {
+        Crowd crowd(pool, 1);
+        CHECK(threads_created() == before + 2);
+        CHECK(dfm_context_step(crowd.context, 0, nullptr) == DFM_ERROR_UNSUPPORTED);
+    }
+
+    // The host's job system runs the work, and the library starts no thread.
+    HostJobQueue host(2);
+    dfm_context_desc jobs = {};
+    jobs.worker_count = 2;
+    jobs.work_mode = DFM_WORK_JOB_SYSTEM;
+    jobs.job_system = host.hooks();
+    before = threads_created();
+    {
+        Crowd crowd(jobs, crowd_size);
+        for (std::size_t i = 0; i < crowd_size; ++i) {
+            const std::uint64_t g = crowd.submit(i, 1);
+            REQUIRE(dfm_session_wait(crowd.sessions[i], g, -1, nullptr) == DFM_OK);
+        }
+        while (host.outstanding() > 0) std::this_thread::yield();
+        CHECK(host.jobs_run() >= 2 * crowd_size);  // the set-ups and the solves
+    }
+    CHECK(threads_created() == before);
+    dfm_context* context = reinterpret_cast<dfm_context*>(0x1);
+    jobs.job_system = {};
+    CHECK(dfm_context_create(&jobs, &context) == DFM_ERROR_INVALID_ARGUMENT);
+    CHECK(message_has("job_system.enqueue is NULL"));
+    CHECK(context == nullptr);
+
+    // Stepped: the work runs inside the steps alone.
+    dfm_context_desc stepped = {};
+    stepped.work_mode = DFM_WORK_HOST_STEPPED;
+    before = threads_created();
+    {
+        Crowd crowd(stepped, crowd_size);
+        std::vector<std::uint64_t> generations;
+        for (std::size_t i = 0; i < crowd_size; ++i) generations.push_back(crowd.submit(i, 1));
+        for (std::size_t i = 0; i < crowd_size; ++i) {
+            CHECK(dfm_session_wait(crowd.sessions[i], generations[i], 0, nullptr) ==
+                  DFM_ERROR_BUSY);
+        }
+        bool left = true;
+        while (left) REQUIRE(dfm_context_step(crowd.context, 0, &left) == DFM_OK);
+        for (std::size_t i = 0; i < crowd_size; ++i) {
+            CHECK(dfm_session_wait(crowd.sessions[i], generations[i], 0, nullptr) == DFM_OK);
+        }
+    }
+    CHECK(threads_created() == before);
+    stepped.worker_count = 2;
+    CHECK(dfm_context_create(&stepped, &context) == DFM_ERROR_INVALID_ARGUMENT);
+    CHECK(message_has("DFM_WORK_HOST_STEPPED"));
+}
+
 TEST_CASE("work modes: destroying the context ends the host's part, and no job runs after") {
     HostJobQueue host(2);
     for (const bool jobs : {true, false}) {

@@ -1,5 +1,7 @@
 """Dualform for Blender: Water-Fill a limb from two clicks, add handle
-groups, drag them with the mesh following live (docs/blender.md)."""
+groups, drag them with the mesh following live; on a character an Armature
+modifier poses, edit the pose shown and bake a corrective shape key
+(docs/blender.md)."""
 
 bl_info = {
     "name": "Dualform",

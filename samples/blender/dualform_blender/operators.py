@@ -8,8 +8,8 @@ import math
 import bmesh
 import bpy
 import numpy as np
-from bpy.props import (EnumProperty, FloatProperty, FloatVectorProperty, IntProperty,
-                       StringProperty)
+from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty,
+                       IntProperty, StringProperty)
 from mathutils import Vector
 
 from . import bridge
@@ -18,7 +18,12 @@ KEEP_ITEMS = [
     ("MESH", "Mesh", "write the result into the mesh (a mesh without shape keys)"),
     ("SHAPE_KEY", "Shape Key", "add the result as a new shape key at value 1, made from the "
                                "shape shown; the other keys go to 0, so edits never add up"),
+    ("CORRECTIVE", "Corrective", "for a mesh an Armature modifier poses: bake the edit into a "
+                                 "new shape key holding only the edit, in rest space, which the "
+                                 "armature plays at this pose; the other keys keep their values"),
 ]
+DRIVER_DESCRIPTION = ("Corrective: drive the key by the angle of the bone nearest the ROI (0 at "
+                      "rest, 1 at this pose)")
 
 
 def _library(context) -> str:
@@ -258,15 +263,37 @@ def _active_handle(obj) -> str:
     return ""
 
 
+def _corrective_text(drag) -> str:
+    """What a bake in a pose found: the vertices corrected, damped ones."""
+    info = drag.corrective
+    if info is None:
+        return ""
+    text = f"; {info.corrective_vertex_count} vertices corrected in rest space"
+    if info.corrective_damped_count:
+        text += (f", {info.corrective_damped_count} of them damped (their skinning is nearly "
+                 f"singular: condition number up to {info.corrective_worst_condition:.3g})")
+    return text
+
+
 def _kept_text(drag) -> str:
     target = drag.target
+    if isinstance(target, bridge.ShapeKeyTarget) and target.additive:
+        text = (f"Dualform: kept as the corrective shape key '{target.key.name}' at value 1"
+                + _corrective_text(drag))
+        if drag.driven_by:
+            bone, degrees = drag.driven_by
+            text += (f"; driven by the angle of the bone '{bone}' (0 at rest, 1 at this "
+                     f"pose's {degrees} degrees)")
+        elif drag.driver and drag.corrective is not None:
+            text += "; no driver: every bone near the ROI stands at rest"
+        return text
     if isinstance(target, bridge.ShapeKeyTarget):
         text = f"Dualform: kept as the shape key '{target.key.name}' at value 1"
         zeroed = target.zeroed()
         if zeroed:
             text += f"; set to 0: {', '.join(zeroed)} (each key holds a whole shape)"
-        return text
-    return "Dualform: kept in the mesh"
+        return text + _corrective_text(drag)
+    return "Dualform: kept in the mesh" + _corrective_text(drag)
 
 
 class ViewMapping:
@@ -311,7 +338,9 @@ class DUALFORM_OT_drag(bpy.types.Operator):
 
     keep: EnumProperty(name="Keep", items=KEEP_ITEMS, default="MESH")
     key_name: StringProperty(name="Shape Key", default=bridge.SHAPE_KEY_NAME,
-                             description="the new shape key's name (keep: Shape Key)")
+                             description="the new shape key's name (keep: Shape Key or "
+                                         "Corrective)")
+    driver: BoolProperty(name="Drive by the Pose", default=True, description=DRIVER_DESCRIPTION)
 
     @classmethod
     def poll(cls, context):
@@ -338,7 +367,8 @@ class DUALFORM_OT_drag(bpy.types.Operator):
             bpy.ops.object.mode_set(mode="OBJECT")
         try:
             self.drag = bridge.DragEdit(obj, _active_handle(obj) or None,
-                                        _library(context) or None, self.keep, self.key_name)
+                                        _library(context) or None, self.keep, self.key_name,
+                                        self.driver)
         except Exception as error:
             self.report({"ERROR"}, str(error))
             self._restore_mode()
@@ -367,8 +397,15 @@ class DUALFORM_OT_drag(bpy.types.Operator):
         if self.timer is not None:
             context.window_manager.event_timer_remove(self.timer)
         if keep:
+            try:
+                self.drag.finish()
+            except Exception as error:  # a bake the library refused
+                self.report({"ERROR"}, str(error))
+                self.drag.target.undo()
+                self._header(context, None)
+                self._restore_mode()
+                return {"CANCELLED"}
             self.report({"INFO"}, _kept_text(self.drag))
-            self.drag.finish()
             push_undo(self.bl_label)
         else:
             self.drag.cancel()
@@ -429,7 +466,9 @@ class DUALFORM_OT_deform(bpy.types.Operator):
                            description="handle group to move (empty: the active or last one)")
     keep: EnumProperty(name="Keep", items=KEEP_ITEMS, default="MESH")
     key_name: StringProperty(name="Shape Key", default=bridge.SHAPE_KEY_NAME,
-                             description="the new shape key's name (keep: Shape Key)")
+                             description="the new shape key's name (keep: Shape Key or "
+                                         "Corrective)")
+    driver: BoolProperty(name="Drive by the Pose", default=True, description=DRIVER_DESCRIPTION)
 
     @classmethod
     def poll(cls, context):
@@ -440,7 +479,8 @@ class DUALFORM_OT_deform(bpy.types.Operator):
         with ObjectModeStep(context, self.bl_label) as step:
             try:
                 drag = bridge.DragEdit(obj, self.handle or _active_handle(obj) or None,
-                                       _library(context) or None, self.keep, self.key_name)
+                                       _library(context) or None, self.keep, self.key_name,
+                                       self.driver)
             except Exception as error:
                 self.report({"ERROR"}, str(error))
                 return {"CANCELLED"}
@@ -455,8 +495,13 @@ class DUALFORM_OT_deform(bpy.types.Operator):
                 drag.cancel()
                 self.report({"ERROR"}, str(error))
                 return {"CANCELLED"}
+            try:
+                drag.finish()
+            except Exception as error:  # a bake the library refused
+                drag.target.undo()
+                self.report({"ERROR"}, str(error))
+                return {"CANCELLED"}
             self.report({"INFO"}, _kept_text(drag))
-            drag.finish()
             step.finished = True
         return {"FINISHED"}
 

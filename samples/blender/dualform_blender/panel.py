@@ -2,11 +2,11 @@
 per scene, and the preferences."""
 
 import bpy
-from bpy.props import (EnumProperty, FloatProperty, FloatVectorProperty, IntProperty,
-                       PointerProperty, StringProperty)
+from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty,
+                       IntProperty, PointerProperty, StringProperty)
 
-from . import bridge
-from .operators import KEEP_ITEMS
+from . import bridge, skin
+from .operators import DRIVER_DESCRIPTION, KEEP_ITEMS
 
 
 class DualformPreferences(bpy.types.AddonPreferences):
@@ -41,6 +41,7 @@ class DualformSettings(bpy.types.PropertyGroup):
     keep: EnumProperty(name="Keep", items=KEEP_ITEMS, default="SHAPE_KEY")
     key_name: StringProperty(name="Shape Key", default=bridge.SHAPE_KEY_NAME,
                              description="the new shape key's name")
+    driver: BoolProperty(name="Drive by the Pose", default=True, description=DRIVER_DESCRIPTION)
     rings: IntProperty(name="Rings", default=1, min=1, max=100,
                        description="edge rings to grow or shrink the ROI by")
 
@@ -70,23 +71,36 @@ class VIEW3D_PT_dualform(bpy.types.Panel):
         col.separator()
         col.label(text="3. Move the active handle")
         col.row(align=True).prop(settings, "keep", expand=True)
-        if settings.keep == "SHAPE_KEY":
+        corrective = settings.keep == "CORRECTIVE"
+        if settings.keep != "MESH":
             col.prop(settings, "key_name", text="Key")
+        if corrective:
+            col.prop(settings, "driver")
         col.prop(settings, "translate")
         col.prop(settings, "rotate_axis")
         col.prop(settings, "rotate_degrees")
-        deform = col.operator("dualform.deform", text="Deform", icon="CHECKMARK")
+        deform = col.operator("dualform.deform", text="Bake Corrective" if corrective else "Deform",
+                              icon="CHECKMARK")
         deform.translate = settings.translate
         deform.rotate_axis = settings.rotate_axis
         deform.rotate_degrees = settings.rotate_degrees
-        deform.keep = settings.keep
-        deform.key_name = settings.key_name
-        drag = col.operator("dualform.drag", text="Drag (G move, R rotate)", icon="VIEW_PAN")
-        drag.keep = settings.keep
-        drag.key_name = settings.key_name
+        for operator in (deform, col.operator("dualform.drag", text="Drag (G move, R rotate)",
+                                              icon="VIEW_PAN")):
+            operator.keep = settings.keep
+            operator.key_name = settings.key_name
+            operator.driver = settings.driver
         if obj is None or obj.type != "MESH":
             return
         box = layout.box()
+        try:
+            modifier = skin.armature_modifier(obj)
+        except ValueError as error:
+            box.label(text="Cannot pose it exactly:", icon="ERROR")
+            box.label(text=str(error))
+        else:
+            if modifier is not None:
+                box.label(text=f"Posed: {modifier.object.name}, frame "
+                               f"{context.scene.frame_current}", icon="ARMATURE_DATA")
         if "dualform_roi_count" in obj:
             text = f"ROI: {obj['dualform_roi_count']} vertices"
             if "dualform_roi_loops" in obj:

@@ -13,8 +13,10 @@
  * - Descriptor structs are valid when zero-initialised ("= {0}"); a zero field
  *   takes the documented default.
  * - Descriptors grow without breaking callers. Each begins with
- *   `struct_size`: set it to sizeof the struct (0 stands for the size the
- *   struct had in version 0.2, where the field appeared). The library reads
+ *   `struct_size`: set it to sizeof the struct. 0 stands for the struct's
+ *   layout in version 0.2, where the field appeared: every field the 0.2.0
+ *   header declares is read, and fields a later version adds take their
+ *   defaults. The library reads
  *   only struct_size bytes, so a caller built against an older, smaller
  *   struct keeps working and the fields it lacks take their defaults; a
  *   caller built against a newer, larger struct is accepted when the bytes
@@ -153,7 +155,12 @@ typedef struct dfm_context dfm_context;
  * alloc returns memory aligned to `alignment` (a power of two up to 64) or
  * NULL on failure, which the call reports as DFM_ERROR_OUT_OF_MEMORY. free
  * receives the size that was allocated. Both hooks may be called from any
- * thread, including the threads that run the context's work. */
+ * thread, including the threads that run the context's work, at once, and
+ * with locks of the library's held (free runs wherever the last reference
+ * to a record goes, a bake or a destroy among them): they must be
+ * thread-safe, must not call any dfm_ function nor wait for a thread that
+ * does, and must not unwind. They stay in use until the context and every
+ * object made from it are destroyed, after dfm_context_destroy too. */
 typedef struct dfm_allocator {
     void* (*alloc)(void* user, size_t size, size_t alignment); /* NULL on failure */
     void (*free)(void* user, void* memory, size_t size);       /* size as allocated */
@@ -178,8 +185,10 @@ typedef enum dfm_log_id {
 } dfm_log_id;
 
 /* Receives diagnostics. Called on the thread that made the dfm_ call (never
- * from the context's work: asynchronous outcomes are in dfm_frame_info);
- * `message` lives only during the call. */
+ * from the context's work: asynchronous outcomes are in dfm_frame_info),
+ * with no lock of the library's held: it may make any call, and wait for
+ * threads that do, but destroy the objects that call works on. `message`
+ * lives only during the call. */
 typedef void (*dfm_log_fn)(void* user, dfm_log_level level, dfm_log_id id, const char* message);
 
 /* Where a context's work runs: its sessions' set-ups and solves, and the
@@ -211,8 +220,15 @@ typedef struct dfm_job dfm_job;
  * threads. */
 typedef struct dfm_job_system {
     /* Hands `job` over: the host runs it exactly once, on any thread, with
-     * dfm_job_run, after enqueue has returned. Called from any thread
-     * (from inside jobs, too), with no lock of the library's held. */
+     * dfm_job_run, after enqueue has returned. Called from any thread: from
+     * the calls that queue work (dfm_session_create, submit, bake), from
+     * inside jobs, and from a solve's parallel loops (dfm_session_solve's
+     * too). No lock is held then that a call takes, other than the calls
+     * that wait for the context's work: enqueue may make any call, and wait
+     * for threads that do, but dfm_session_wait, cancel, solve, set_solver,
+     * bake and destroy on the context's sessions and dfm_context_destroy,
+     * which may wait for the very work that is calling it (sdk/README.md,
+     * "Threads"). */
     void (*enqueue)(void* user, dfm_job* job);
     void* user; /* passed to enqueue */
 } dfm_job_system;
@@ -230,7 +246,8 @@ typedef struct dfm_context_desc {
     /* The workers of the context's work, shared by all its sessions; 0
      * means 1, at most 256. DFM_WORK_POOL: the threads the context starts.
      * DFM_WORK_JOB_SYSTEM: how many jobs the host may run at once.
-     * DFM_WORK_HOST_STEPPED: 0 or 1 (the host's thread). A solve's
+     * DFM_WORK_HOST_STEPPED: 0 or 1 (the host's thread; more is
+     * DFM_ERROR_INVALID_ARGUMENT). A solve's
      * parallel loops split their work by it; results do not depend on it,
      * bit for bit. Where a core is free, 2 keeps a 20,000-vertex drag up
      * with a 60 Hz host (docs/benchmarks.md). */
@@ -258,10 +275,12 @@ typedef struct dfm_context_desc {
      * "": the document's folder only. The other formats follow no reference
      * (OBJ's mtllib is skipped). */
     const char* reference_folder;
-    /* Where the work runs; 0: DFM_WORK_POOL. */
+    /* Where the work runs; 0: DFM_WORK_POOL. A value no dfm_work_mode has
+     * is DFM_ERROR_INVALID_ARGUMENT. */
     dfm_work_mode work_mode;
-    /* DFM_WORK_JOB_SYSTEM: the host's job system, `enqueue` required; all
-     * zero in the other modes. */
+    /* DFM_WORK_JOB_SYSTEM: the host's job system, `enqueue` required
+     * (NULL: DFM_ERROR_INVALID_ARGUMENT); all zero in the other modes
+     * (anything set: DFM_ERROR_INVALID_ARGUMENT). */
     dfm_job_system job_system;
 } dfm_context_desc;
 
@@ -279,9 +298,13 @@ DFM_API dfm_result dfm_context_create(const dfm_context_desc* desc, dfm_context*
  * waits for queued targets), it waits for every job already handed over
  * (so the host keeps its job system running until it returns, and does not
  * call it from inside a job), and after it returns no job is handed over
- * and none runs. Sessions that outlive it refuse dfm_session_submit with
- * DFM_ERROR_CANCELLED; those whose set-up had ended still solve on the
- * caller's thread (dfm_session_solve). */
+ * and none runs. A set-up or solve that a job is running goes on to its
+ * end meanwhile and publishes its frame (dfm_session_destroy, by contrast,
+ * stops a running solve after its current iteration). Sessions that
+ * outlive it refuse dfm_session_submit with DFM_ERROR_CANCELLED; those
+ * whose set-up had ended still solve on the caller's thread
+ * (dfm_session_solve). dfm_session_create on its meshes then answers
+ * DFM_ERROR_CANCELLED: no work of theirs can run. */
 DFM_API void dfm_context_destroy(dfm_context* context);
 
 /* Runs a job the host's job system was handed (dfm_job_system.enqueue), on
@@ -295,7 +318,11 @@ DFM_API void dfm_job_run(dfm_job* job);
  * they were submitted (a session with newer targets queues again behind
  * the others once its solve ends, so none starves). Once `budget_us`
  * microseconds have passed it starts no further iteration: it returns at
- * most one iteration past the budget (a set-up runs whole). A solve stopped
+ * most one iteration past the budget (a set-up runs whole). The budget is
+ * wall-clock time (a steady clock), not the thread's own: an iteration in
+ * progress when it ends runs on, so where the thread waits for a core the
+ * step overruns by that iteration's wall time, more than its work. A
+ * budget above a day (UINT64_MAX included) is a day. A solve stopped
  * there resumes first at the next step and finishes with the same bits as
  * if it had not stopped; frames are published as with threads (previews,
  * on_frame on this thread). 0: runs until no work is left. *work_left (may
@@ -519,8 +546,9 @@ DFM_API dfm_result dfm_mesh_redo_bake(dfm_mesh* mesh);
  * vertex's bind position moves by d = L_v^-1 D', D' its posed displacement
  * and L_v the 3x3 part of sum_k w_vk J[j_vk] inverse_bind[j_vk], so that
  * skinning the bind shape at that pose gives the edited shape (to rounding);
- * where L_v is ill-conditioned (condition number above 1e3: cancelling
- * weights, collapsed joints) a damped inverse is used and the bake logs
+ * where L_v is ill-conditioned (it shrinks a direction below a thousandth
+ * of the larger of 1 and its largest singular value: cancelling weights, a
+ * collapsed joint) a damped inverse is used and the bake logs
  * DFM_LOG_ID_CORRECTIVE_DAMPED naming the vertices. The bake history is in
  * bind space; undo and redo show it at the current pose. A save writes the
  * bind space into a glTF or FBX asset (its positions, or the corrective as a morph
@@ -538,8 +566,8 @@ typedef struct dfm_skin_info {
     bool posed;                  /* a pose is set */
     int32_t pose_animation;      /* the pose's animation, or -1: joint matrices, or none */
     double pose_time;            /* the pose's time in seconds, as clamped */
-    /* The last bake (or dfm_mesh_set_positions) in a pose: the vertices it
-     * moved, */
+    /* The last bake (or dfm_mesh_set_positions) in a pose (all 0 before
+     * one): the vertices it moved, */
     size_t corrective_vertex_count;
     double corrective_worst_condition; /* the largest condition number of their L_v, */
     size_t corrective_damped_count;    /* and how many took the damped inverse */
@@ -778,11 +806,16 @@ typedef struct dfm_frame_info dfm_frame_info;
  * context's work: a worker, a host job, the stepping thread; the caller's
  * thread for dfm_session_solve), after it is published and before the next
  * one can be: partial, finished and set-up frames alike. `info` lives only
- * during the call. The callback may poll, read, acquire and release frames
- * of the session, and submit; it must not call wait, cancel, solve,
- * set_solver, bake or destroy on the same session (they wait for the
- * thread that is running the callback), nor dfm_context_step, and must not
- * throw. Keep it short: that thread does no other work while it runs. */
+ * during the call. No lock is held then that a call takes, other than the
+ * calls that wait for the context's work: the callback may poll, read,
+ * acquire and release frames, submit, make any call on other objects, and
+ * wait for threads that do, but not dfm_session_wait, cancel, solve,
+ * set_solver, bake or destroy on the context's sessions, nor
+ * dfm_context_step or dfm_context_destroy (they may wait for the work that
+ * is running the callback). It must not throw. A dfm_session_destroy may
+ * begin while the callback runs: it waits for the callback, whose calls on
+ * the session meanwhile may answer DFM_ERROR_INVALID_HANDLE. Keep it short:
+ * that thread does no other work while it runs. */
 typedef void (*dfm_frame_ready_fn)(void* user, dfm_session* session, const dfm_frame_info* info);
 
 /* One edit: the region, its handle groups and the solver's settings. */
@@ -807,7 +840,9 @@ typedef struct dfm_session_desc {
  * that fails (out of memory, a singular system) is reported in the next
  * frame's status and by every later submit. The session starts at the rest
  * pose with every group's transform the identity. It holds its mesh alive.
- * *out is owned by the caller. Thread-safe. */
+ * DFM_ERROR_CANCELLED when the mesh's context, made with
+ * DFM_WORK_JOB_SYSTEM or DFM_WORK_HOST_STEPPED, was destroyed (no work of
+ * the session could run). *out is owned by the caller. Thread-safe. */
 DFM_API dfm_result dfm_session_create(dfm_mesh* mesh, const dfm_session_desc* desc,
                                       dfm_session** out);
 
@@ -926,8 +961,11 @@ DFM_API dfm_result dfm_session_poll(dfm_session* session, uint64_t known_generat
 
 /* Waits (no spinning) until the set-up has ended and a finished frame of
  * generation >= `generation` is published: DFM_OK. Generation 0 (or, after a
- * bake, the baked frame's) waits for the set-up alone. DFM_ERROR_CANCELLED if that generation was
- * cancelled, DFM_ERROR_BUSY on timeout (timeout_ms < 0: no limit). `out` may be NULL. */
+ * bake, the baked frame's) waits for the set-up alone: DFM_OK once the
+ * frame that ends it is published, so the newest frame (`out`, poll) no
+ * longer says `preparing`. DFM_ERROR_CANCELLED if that generation was
+ * cancelled, DFM_ERROR_BUSY on timeout (timeout_ms < 0: no limit; 0 polls).
+ * `out` may be NULL. */
 DFM_API dfm_result dfm_session_wait(dfm_session* session, uint64_t generation, int64_t timeout_ms,
                                     dfm_frame_info* out);
 
@@ -1005,7 +1043,10 @@ DFM_API dfm_result dfm_session_release_frame(dfm_session* session);
 /* Bakes the newest finished frame, exactly as published (never a new
  * solve; staged targets are not looked at), into the mesh's rest pose
  * (undoable with dfm_mesh_undo_bake). Queued and running solves are
- * dropped. The session then restarts on the new rest pose with the same
+ * dropped (cancelled, as by dfm_session_cancel, before the new rest pose
+ * is added: so also when adding it fails, because another thread changed
+ * the rest pose meanwhile (DFM_ERROR_BUSY) or memory ran out). The
+ * session then restarts on the new rest pose with the same
  * ROI and groups and identity transforms: its set-up is queued as
  * at creation (frames report `preparing`), and generations go on growing:
  * the restarted session's first frame carries the baked frame's

@@ -16,9 +16,10 @@ from .errors import (BusyError, CancelledError, DeviceError, DualformError, Inte
 from .mesh import Mesh, Roi
 from .session import FrameView, Session, frame_checksum
 from . import scenario
-from .types import (Camera, FrameInfo, Hit, LoadReport, LogId, LogLevel, MeshInfo, MeshMemory,
-                    MeshSummary, Method, PlyEncoding, Preconditioner, Quality, SessionMemory,
-                    SolveReport, WaterFillDiagnosis, WorkMode)
+from .types import (AnimationInfo, Camera, FrameInfo, Hit, JointInfo, LoadReport, LogId, LogLevel,
+                    MeshInfo, MeshMemory, MeshSummary, Method, MorphTargetInfo, PlyEncoding,
+                    Preconditioner, Quality, SessionMemory, SkinInfo, SolveReport,
+                    WaterFillDiagnosis, WorkMode)
 
 __version__ = "0.2.0"
 
@@ -29,13 +30,13 @@ def library_version() -> int:
 
 
 __all__ = [
-    "BusyError", "Camera", "CancelledError", "Context", "CountingAllocator", "DeviceError",
-    "DualformError", "FrameInfo", "FrameView", "Hit", "IOFailedError", "InternalError",
-    "InvalidArgumentError", "InvalidHandleError", "JobQueue", "LIBRARY_VARIABLE", "LoadReport",
-    "LogId", "LogLevel", "Mesh", "MeshInfo", "MeshMemory", "MeshSummary", "Method", "NotFoundError",
-    "NumericalError", "OutOfMemoryError", "OutOfRangeError", "ParseError", "PlyEncoding",
-    "Preconditioner", "Quality", "Result", "Roi", "Session", "SessionMemory", "SolveReport",
-    "UnsupportedError", "WaterFillDiagnosis", "WorkMode", "default_models_directory",
-    "deform_batch", "frame_checksum", "library_candidates", "library_version", "load_library",
-    "result_name", "run_job", "scenario",
+    "AnimationInfo", "BusyError", "Camera", "CancelledError", "Context", "CountingAllocator",
+    "DeviceError", "DualformError", "FrameInfo", "FrameView", "Hit", "IOFailedError",
+    "InternalError", "InvalidArgumentError", "InvalidHandleError", "JobQueue", "JointInfo",
+    "LIBRARY_VARIABLE", "LoadReport", "LogId", "LogLevel", "Mesh", "MeshInfo", "MeshMemory",
+    "MeshSummary", "Method", "MorphTargetInfo", "NotFoundError", "NumericalError",
+    "OutOfMemoryError", "OutOfRangeError", "ParseError", "PlyEncoding", "Preconditioner", "Quality",
+    "Result", "Roi", "Session", "SessionMemory", "SkinInfo", "SolveReport", "UnsupportedError",
+    "WaterFillDiagnosis", "WorkMode", "default_models_directory", "deform_batch", "frame_checksum",
+    "library_candidates", "library_version", "load_library", "result_name", "run_job", "scenario",
 ]

@@ -22,6 +22,7 @@ from ctypes import (
     c_double,
     c_float,
     c_int,
+    c_int32,
     c_int64,
     c_size_t,
     c_uint16,
@@ -90,6 +91,20 @@ class ContextDesc(Structure):
     ]
 
 
+class SkinInput(Structure):
+    _fields_ = [
+        ("joint_count", c_uint32),
+        ("inverse_bind_matrices", POINTER(c_double)),
+        ("influence_count", c_uint32),
+        ("joints", c_void_p),
+        ("joint_stride", c_size_t),
+        ("joint_type", c_int),
+        ("weights", c_void_p),
+        ("weight_stride", c_size_t),
+        ("weight_type", c_int),
+    ]
+
+
 class MeshDesc(Structure):
     _fields_ = [
         ("struct_size", c_uint32),
@@ -99,6 +114,7 @@ class MeshDesc(Structure):
         ("index_stride", c_size_t),
         ("weld", c_int),
         ("weld_tolerance", c_double),
+        ("skin", SkinInput),
     ]
 
 
@@ -122,6 +138,42 @@ class MeshMemory(Structure):
         (name, c_size_t)
         for name in ("rest_pose", "adjacency", "model", "history", "pick_scene", "total")
     ]
+
+
+class SkinInfo(Structure):
+    _fields_ = [
+        ("joint_count", c_uint32),
+        ("max_influences", c_uint32),
+        ("skinned_vertex_count", c_size_t),
+        ("animation_count", c_uint32),
+        ("morph_target_count", c_uint32),
+        ("posed", c_bool),
+        ("pose_animation", c_int32),
+        ("pose_time", c_double),
+        ("corrective_vertex_count", c_size_t),
+        ("corrective_worst_condition", c_double),
+        ("corrective_damped_count", c_size_t),
+    ]
+
+
+class JointInfo(Structure):
+    _fields_ = [("name", c_char_p), ("parent", c_uint32)]
+
+
+class AnimationInfo(Structure):
+    _fields_ = [
+        ("name", c_char_p),
+        ("start", c_double),
+        ("end", c_double),
+        ("translation_channels", c_uint32),
+        ("rotation_channels", c_uint32),
+        ("scale_channels", c_uint32),
+        ("weight_channels", c_uint32),
+    ]
+
+
+class MorphTargetInfo(Structure):
+    _fields_ = [("name", c_char_p), ("default_weight", c_double), ("vertex_count", c_size_t)]
 
 
 class Hit(Structure):
@@ -306,6 +358,17 @@ _PROTOTYPES = {
     "dfm_mesh_undo_bake": (_R, [_p]),
     "dfm_mesh_redo_bake": (_R, [_p]),
     "dfm_mesh_subdivide": (_R, [_p, c_uint32, POINTER(_p)]),
+    "dfm_mesh_get_skin_info": (_R, [_p, POINTER(SkinInfo)]),
+    "dfm_mesh_get_joint_info": (_R, [_p, c_uint32, POINTER(JointInfo)]),
+    "dfm_mesh_get_animation_info": (_R, [_p, c_uint32, POINTER(AnimationInfo)]),
+    "dfm_mesh_find_animation": (_R, [_p, c_char_p, POINTER(c_uint32)]),
+    "dfm_mesh_get_morph_target_info": (_R, [_p, c_uint32, POINTER(MorphTargetInfo)]),
+    "dfm_mesh_set_pose_animation": (_R, [_p, c_uint32, c_double]),
+    "dfm_mesh_set_pose_joints": (_R, [_p, POINTER(c_double), c_size_t, POINTER(c_double),
+                                      c_size_t]),
+    "dfm_mesh_clear_pose": (_R, [_p]),
+    "dfm_mesh_read_joint_matrices": (_R, [_p, POINTER(c_double), c_size_t]),
+    "dfm_mesh_read_bind_positions": (_R, [_p, POINTER(Vec3Output)]),
     "dfm_mesh_pick": (_R, [_p, POINTER(Camera), c_double, c_double, POINTER(Hit)]),
     "dfm_mesh_pick_ray": (_R, [_p, POINTER(c_double), POINTER(c_double), POINTER(Hit)]),
     "dfm_roi_water_fill": (_R, [_p, c_uint32, c_uint32, POINTER(_p), POINTER(WaterFillDiagnosis)]),

@@ -4,16 +4,17 @@ from __future__ import annotations
 
 import ctypes
 import os
-from typing import Iterable, Optional, Sequence, Tuple, Union
+from typing import Iterable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from . import _arrays, _native
+from . import _arrays, _native, _skin
 from ._handle import Handle
 from .context import Context
 from .errors import check
-from .types import (Camera, Hit, LoadReport, MeshInfo, MeshMemory, MeshSummary, PlyEncoding,
-                    WaterFillDiagnosis, from_struct)
+from .types import (AnimationInfo, Camera, Hit, JointInfo, LoadReport, MeshInfo, MeshMemory,
+                    MeshSummary, MorphTargetInfo, PlyEncoding, SkinInfo, WaterFillDiagnosis,
+                    from_struct)
 
 PathLike = Union[str, os.PathLike]
 
@@ -38,7 +39,8 @@ class Mesh(Handle):
 
     @classmethod
     def from_arrays(cls, context: Context, positions, triangles, *,
-                    weld: Optional[float] = None) -> "Mesh":
+                    weld: Optional[float] = None, joints=None, weights=None,
+                    inverse_bind_matrices=None) -> "Mesh":
         """Copies a mesh from ``positions`` (float32 or float64, shape (n, 3),
         read in place) and ``triangles`` (uint32 (m, 3); other integer types
         are converted). ``weld`` joins a renderer's seam-split copies of a
@@ -47,14 +49,28 @@ class Mesh(Handle):
         None keeps every vertex apart. The arrays' numbering stays the
         caller's (docs/gltf.md). A triangle that repeats a vertex is dropped
         with a load warning (the context's log), as the file loaders drop
-        it; ``triangles()`` then lists the kept ones."""
+        it; ``triangles()`` then lists the kept ones.
+
+        A linear blend skin, all three or none: ``joints`` (n, K) joint
+        indices (uint8, uint16 or uint32 read in place; other integers
+        converted), ``weights`` (n, K) (float32 or float64; normalised to
+        sum 1 by the library) and ``inverse_bind_matrices`` (J, 4, 4), each
+        acting on column vectors (M @ [x, y, z, 1]). Posed at joint world
+        matrices J_j (:meth:`set_pose_joints`), vertex v shows at
+        sum_k w_vk J[j_vk] inverse_bind[j_vk] p_v. Copies are welded only
+        where their skins agree. A negative or non-finite weight or weights
+        summing to 0 raise :class:`NumericalError`, a joint index of J or
+        more :class:`OutOfRangeError`, each naming the vertex and slot; an
+        inverse bind matrix that is not invertible :class:`NumericalError`."""
         pos_in, _kept = _arrays.vec3_input(positions, "positions")
         tri = _arrays.index_array(triangles, "triangles", columns=3)
+        skin, _skin_kept = _skin.skin_input(pos_in.count, joints, weights, inverse_bind_matrices)
         desc = _native.MeshDesc()
         desc.struct_size = ctypes.sizeof(desc)
         desc.positions = pos_in
         desc.indices = tri.ctypes.data
         desc.triangle_count = tri.shape[0]
+        desc.skin = skin
         if weld is not None:
             desc.weld = 1 if weld == 0 else 2
             desc.weld_tolerance = float(weld)
@@ -115,7 +131,7 @@ class Mesh(Handle):
         components and boundary: milliseconds on a large mesh); later reads
         return that result until this package changes the rest pose
         (``set_positions``, a session's ``bake``, ``undo_bake``,
-        ``redo_bake``)."""
+        ``redo_bake``, ``set_pose``, ``set_pose_joints``, ``clear_pose``)."""
         pointer = self.pointer  # a closed mesh raises, kept figures or not
         info = self._info
         if info is None:
@@ -146,7 +162,7 @@ class Mesh(Handle):
 
     def positions(self, dtype=np.float64, out: Optional[np.ndarray] = None) -> np.ndarray:
         """The rest positions, (n, 3), written straight into ``out`` (or a
-        new array of ``dtype``)."""
+        new array of ``dtype``); posed, when a pose is set."""
         n = self.vertex_count
         array = _arrays.new_vec3(n, dtype, out)
         check(_native.lib().dfm_mesh_read_positions(self.pointer,
@@ -192,6 +208,110 @@ class Mesh(Handle):
     def redo_bake(self) -> None:
         self.forget_info()
         check(_native.lib().dfm_mesh_redo_bake(self.pointer))
+
+    # -------------------------------------------------------------- skin and pose
+
+    def skin_info(self) -> SkinInfo:
+        """What poses the mesh, the pose set, and what the last bake in a
+        pose found of its corrective (all zeros, ``pose_animation`` -1,
+        without a skin or morph targets)."""
+        out = _native.SkinInfo()
+        check(_native.lib().dfm_mesh_get_skin_info(self.pointer, ctypes.byref(out)))
+        return from_struct(SkinInfo, out)
+
+    def joints(self) -> List[JointInfo]:
+        """The skin's joints in order: their node names and parents."""
+        out = []
+        for j in range(self.skin_info().joint_count):
+            c = _native.JointInfo()
+            check(_native.lib().dfm_mesh_get_joint_info(self.pointer, j, ctypes.byref(c)))
+            out.append(JointInfo(c.name.decode(), None if c.parent == 0xFFFFFFFF else c.parent))
+        return out
+
+    def animations(self) -> List[AnimationInfo]:
+        """The file's animations in order (glTF)."""
+        out = []
+        for a in range(self.skin_info().animation_count):
+            c = _native.AnimationInfo()
+            check(_native.lib().dfm_mesh_get_animation_info(self.pointer, a, ctypes.byref(c)))
+            out.append(AnimationInfo(c.name.decode(), c.start, c.end, c.translation_channels,
+                                     c.rotation_channels, c.scale_channels, c.weight_channels))
+        return out
+
+    def morph_targets(self) -> List[MorphTargetInfo]:
+        """The loaded meshes' morph targets in order, with their default weights."""
+        out = []
+        for t in range(self.skin_info().morph_target_count):
+            c = _native.MorphTargetInfo()
+            check(_native.lib().dfm_mesh_get_morph_target_info(self.pointer, t,
+                                                               ctypes.byref(c)))
+            out.append(MorphTargetInfo(c.name.decode(), c.default_weight, c.vertex_count))
+        return out
+
+    def find_animation(self, name: str) -> int:
+        """The index of the first animation called ``name``; NotFoundError
+        (naming the animations there are) when none is."""
+        out = ctypes.c_uint32()
+        check(_native.lib().dfm_mesh_find_animation(self.pointer, name.encode(),
+                                                    ctypes.byref(out)))
+        return out.value
+
+    def set_pose(self, animation: Union[str, int], time: float) -> None:
+        """Poses the mesh at ``animation`` (a name or an index) at ``time``
+        seconds, clamped to the animation's first and last key. From then
+        on everything that reads or edits the rest pose sees it posed
+        (:meth:`positions`, :attr:`info`, picks, ROIs, sessions), and a bake
+        keeps the edit as its exact bind-space corrective. NotFoundError for
+        a name the file does not have, OutOfRangeError for an index past the
+        last, NumericalError for a time that is not finite, UnsupportedError
+        for a mesh without a skin or morph targets. Earlier sessions can no
+        longer bake."""
+        index = (self.find_animation(animation) if isinstance(animation, str)
+                 else _arrays.unsigned(animation, "animation", 0xFFFFFFFF))
+        self.forget_info()
+        check(_native.lib().dfm_mesh_set_pose_animation(self.pointer, index, float(time)))
+
+    def set_pose_joints(self, joint_matrices, morph_weights=None) -> None:
+        """Poses the mesh from joint world matrices, (J, 4, 4), each acting
+        on column vectors (M @ [x, y, z, 1]; the library multiplies it by
+        its joint's inverse bind matrix), and ``morph_weights`` (one per
+        morph target; None: their defaults). A count that does not match
+        the skin's is InvalidArgumentError; a matrix or weight that is not
+        finite, or a matrix whose last row is not 0 0 0 1, NumericalError
+        naming it; nothing changes on an error."""
+        m = _skin.column_major(joint_matrices, "joint_matrices")
+        w = None
+        if morph_weights is not None:
+            w = np.ascontiguousarray(morph_weights, dtype=np.float64)
+            if w.ndim != 1:
+                raise ValueError(f"morph_weights: expected a 1-D array, found shape {w.shape}")
+        self.forget_info()
+        check(_native.lib().dfm_mesh_set_pose_joints(
+            self.pointer, _skin.double_pointer(m), m.shape[0], _skin.double_pointer(w),
+            0 if w is None else w.size))
+
+    def clear_pose(self) -> None:
+        """Back to the bind space: the rest pose shows unposed again."""
+        self.forget_info()
+        check(_native.lib().dfm_mesh_clear_pose(self.pointer))
+
+    def joint_matrices(self) -> np.ndarray:
+        """The pose's joint world matrices, (J, 4, 4) acting on column
+        vectors: those of the pose set, or of the file's nodes at rest."""
+        values = np.empty(16 * self.skin_info().joint_count, dtype=np.float64)
+        check(_native.lib().dfm_mesh_read_joint_matrices(self.pointer,
+                                                         _skin.double_pointer(values),
+                                                         values.size))
+        return _skin.from_column_major(values)
+
+    def bind_positions(self, dtype=np.float64, out: Optional[np.ndarray] = None) -> np.ndarray:
+        """The bind-space rest positions after the bakes, (n, 3): on a posed
+        mesh what a save writes (minus the positions as created or loaded:
+        the corrective); :meth:`positions` on a mesh that is not posed."""
+        array = _arrays.new_vec3(self.vertex_count, dtype, out)
+        check(_native.lib().dfm_mesh_read_bind_positions(
+            self.pointer, ctypes.byref(_arrays.vec3_output(array))))
+        return array
 
     # -------------------------------------------------------------- picking
 

@@ -19,12 +19,14 @@ from . import _json
 from .context import Context
 from .errors import DualformError, Result
 from .mesh import Mesh, Roi
-from .scenario_format import Ball, HandleSpec, RoiSpec, Scenario, ScenarioError, load_scenario
+from .scenario_format import (Ball, HandleSpec, PoseSpec, RoiSpec, Scenario, ScenarioError,
+                              load_scenario)
 from .session import Session
 from .types import Camera, LogId, LogLevel, Method
 
 __all__ = ["Edit", "ScenarioError", "SolveError", "WorkError", "load_scenario", "open_mesh",
-           "report_json", "resolve_edit", "run_deform", "select_roi", "write_text_file"]
+           "pose_report", "report_json", "resolve_edit", "run_deform", "select_roi",
+           "write_text_file"]
 
 
 class SolveError(RuntimeError):
@@ -121,7 +123,7 @@ def _group_targets(spec: HandleSpec, group: np.ndarray, rest: np.ndarray,
 
 
 def open_mesh(scenario: Scenario, context: Context) -> Mesh:
-    """The scenario's mesh, loaded and subdivided as it asks."""
+    """The scenario's mesh, loaded, subdivided and posed as it asks."""
     try:
         mesh = Mesh.load(context, scenario.mesh_path)
     except DualformError as error:
@@ -132,7 +134,40 @@ def open_mesh(scenario: Scenario, context: Context) -> Mesh:
                 return mesh.subdivide(scenario.subdivide)
             except DualformError as error:
                 raise _api(error, "subdivide") from None
+    if scenario.pose is not None:
+        try:
+            _pose(scenario.pose, mesh)
+        except BaseException:
+            mesh.close()
+            raise
     return mesh
+
+
+def _pose(spec: PoseSpec, mesh: Mesh) -> None:
+    animation = spec.animation
+    if isinstance(animation, str):
+        try:
+            animation = mesh.find_animation(animation)
+        except DualformError as error:
+            raise _api(error, "pose.animation") from None
+    try:
+        mesh.set_pose(animation, spec.time)
+    except DualformError as error:
+        raise _api(error, "pose") from None
+
+
+def pose_report(mesh: Mesh) -> dict:
+    """The report's "pose" and "corrective" of a posed edit: the animation
+    and time (as clamped), and the vertices the bake's corrective moved,
+    their worst condition number and how many took the damped inverse."""
+    skin = mesh.skin_info()
+    animation = mesh.animations()[skin.pose_animation]
+    return {
+        "pose": {"animation": animation.name, "time": skin.pose_time},
+        "corrective": {"vertices": skin.corrective_vertex_count,
+                       "worst_condition": skin.corrective_worst_condition,
+                       "damped": skin.corrective_damped_count},
+    }
 
 
 def _check_vertex(v: int, mesh: Mesh, what: str) -> None:
@@ -311,7 +346,7 @@ def run_deform(scenario_path: os.PathLike, out_path: os.PathLike, *,
         if roi_out is not None:
             write_text_file(roi_out, "\n".join(map(str, roi_vertices.tolist())))
         paper = solver.get("method") == Method.PAPER
-        return {
+        out = {
             "mesh": scenario.mesh,
             "n_vertices": info.vertex_count,
             "n_faces": info.triangle_count,
@@ -332,6 +367,12 @@ def run_deform(scenario_path: os.PathLike, out_path: os.PathLike, *,
             "load_ms": load_ms,
             "quality": _quality(quality),
         }
+        if scenario.pose is not None:
+            try:
+                out.update(pose_report(mesh))
+            except DualformError as error:
+                raise SolveError(error.message) from None
+        return out
 
 
 def report_json(report: dict) -> str:

@@ -11,7 +11,7 @@ import math
 import os
 import stat
 from dataclasses import dataclass, field
-from typing import List, Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple, Union
 
 from . import _json
 from ._json import ARRAY, BOOLEAN, NUMBER, OBJECT, STRING, Value
@@ -89,12 +89,24 @@ class SolverSpec:
 
 
 @dataclass
+class PoseSpec:
+    """The pose a skinned mesh is edited in: an animation of the file, by
+    name or index, at a time in seconds."""
+
+    animation: Union[str, int]
+    time: float
+
+
+@dataclass
 class Scenario:
     mesh: str  # as written: a path or model:NAME
     roi: RoiSpec
     handles: List[HandleSpec]
     solver: SolverSpec
     subdivide: int = 0
+    # With a pose, every position of the scenario is in the posed world
+    # space; vertex indices stay the file's.
+    pose: Optional[PoseSpec] = None
     base_dir: str = ""  # the file's folder, for relative mesh paths
     source: str = ""
 
@@ -264,8 +276,8 @@ class _Reader:
     # -- the format
     def scenario(self, root: Value) -> Scenario:
         top = _Field(root, root.at, "")
-        self.object(top, ("mesh", "subdivide", "roi", "handles", "solver", "description",
-                          "comment"))
+        self.object(top, ("mesh", "subdivide", "pose", "roi", "handles", "solver",
+                          "description", "comment"))
         for note in ("description", "comment"):
             f = _member(top, note)
             if f.value is not None and f.value.kind != STRING:
@@ -274,10 +286,30 @@ class _Reader:
         subdivide = self.optional(top, "subdivide", lambda f: int(self.number(
             f, "an integer from 0 to 3",
             lambda v: v.integer and 0.0 <= v.number <= MAX_SUBDIVISIONS)), 0)
+        pose = None
+        pose_field = _member(top, "pose")
+        if pose_field.value is not None:
+            if subdivide > 0:
+                raise self.error(pose_field, "a pose cannot be combined with subdivide (a "
+                                             "subdivided mesh has no skin)")
+            pose = self.pose(pose_field)
         roi = self.roi(_member(top, "roi"))
         handles = self.handles(_member(top, "handles"))
         solver = self.optional(top, "solver", self.solver, SolverSpec())
-        return Scenario(mesh, roi, handles, solver, subdivide, source=self.source)
+        return Scenario(mesh, roi, handles, solver, subdivide, pose=pose, source=self.source)
+
+    def pose(self, f: _Field) -> PoseSpec:
+        self.object(f, ("animation", "time"))
+        animation_field = _member(f, "animation")
+        if animation_field.value is None:
+            raise self.error(animation_field, "required field is missing")
+        if animation_field.value.kind == STRING:
+            animation: Union[str, int] = animation_field.value.text
+        else:
+            animation = int(self.number(
+                animation_field, "an animation's name or index",
+                lambda v: v.integer and 0.0 <= v.number <= 4294967295.0))
+        return PoseSpec(animation, self.number(_member(f, "time")))
 
     def mesh(self, f: _Field) -> str:
         self.typed(f, STRING, "a string (a mesh file path or model:NAME)")

@@ -60,6 +60,7 @@ class LogId(enum.IntEnum):
     WATER_FILL_SUSPECT = 2
     SOLVE_NOT_CONVERGED = 3
     SOLVE_FAILED = 4
+    CORRECTIVE_DAMPED = 5  # a bake in a pose met ill-conditioned skinning
 
 
 Vec3 = Tuple[float, float, float]
@@ -173,6 +174,58 @@ class LoadReport:
     polygons: int
     triangulated_polygons: int
     dropped_faces: int
+
+
+@dataclass(frozen=True)
+class SkinInfo:
+    """dfm_skin_info: what poses a mesh, the pose set, and what the last
+    bake in a pose found of its corrective (docs/python.md, "Skinned
+    meshes")."""
+
+    joint_count: int  # 0 without a skin
+    max_influences: int
+    skinned_vertex_count: int
+    animation_count: int
+    morph_target_count: int
+    posed: bool
+    pose_animation: int  # -1: joint matrices, or no pose
+    pose_time: float  # seconds, as clamped
+    corrective_vertex_count: int  # vertices the last bake in a pose moved
+    corrective_worst_condition: float  # the largest condition number of their L_v
+    corrective_damped_count: int  # how many took the damped inverse
+
+
+@dataclass(frozen=True)
+class JointInfo:
+    """dfm_joint_info: a joint's node name and the nearest ancestor that is
+    a joint (None for none)."""
+
+    name: str
+    parent: Optional[int]
+
+
+@dataclass(frozen=True)
+class AnimationInfo:
+    """dfm_animation_info: an animation's name, first and last key (seconds)
+    and its channels by what they animate."""
+
+    name: str
+    start: float
+    end: float
+    translation_channels: int
+    rotation_channels: int
+    scale_channels: int
+    weight_channels: int
+
+
+@dataclass(frozen=True)
+class MorphTargetInfo:
+    """dfm_morph_target_info: a morph target's name, default weight and the
+    surface vertices it moves."""
+
+    name: str
+    default_weight: float
+    vertex_count: int
 
 
 @dataclass(frozen=True)

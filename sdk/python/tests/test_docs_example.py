@@ -44,3 +44,12 @@ def test_docs_gltf_morph_target_example(tmp_path, monkeypatch):
         # The asset keeps its rest pose (the cow's, in float); the edit is the target.
         assert (saved.positions() == asset.positions()).all()
         assert abs(saved.positions() - cow.positions()).max() < 1e-6
+
+
+def test_docs_skinned_example(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    lines = run_block("## Skinned meshes")
+    assert lines[:2] == ["2 joints: ['joint_0', 'joint_1']",
+                         "168 vertices corrected, damped: 0"]
+    assert lines[2].startswith("replayed to ") and float(lines[2].split()[-1]) < 1e-12
+    assert lines[3] == "the posed displacement copied misses by 0.09"

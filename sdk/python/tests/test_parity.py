@@ -34,6 +34,22 @@ def both(cli, args, cwd, monkeypatch):
     return (tool.returncode, tool.stdout, tool.stderr), (code, out.getvalue(), err.getvalue())
 
 
+def reports_of_both(cli, args: dict, cwd, monkeypatch) -> list:
+    """Runs ``deform`` with the tool's and the package's own arguments
+    (``args["tool"]``, ``args["package"]``) in ``cwd``; both succeed, and
+    their reports have the same keys in the same order and the same values
+    but for the timings. Returns the two reports."""
+    tool = subprocess.run([cli, "deform", *args["tool"]], capture_output=True, text=True,
+                          cwd=cwd)
+    _, package = both(cli, args["package"], cwd, monkeypatch)
+    assert tool.returncode == 0 and package[0] == 0, tool.stderr + package[2]
+    reports = [json.loads(tool.stdout), json.loads(package[1])]
+    assert list(reports[0]) == list(reports[1])
+    for key in reports[0].keys() - TIMINGS:
+        assert reports[0][key] == reports[1][key], key
+    return reports
+
+
 @pytest.mark.parametrize("scenario", MALFORMED_SCENARIOS, ids=lambda p: p.stem)
 def test_malformed_scenarios_answer_alike(scenario, cli, tmp_path, monkeypatch):
     tool, package = both(cli, [scenario.name, "--out", str(tmp_path / "out.ply")],
@@ -43,8 +59,8 @@ def test_malformed_scenarios_answer_alike(scenario, cli, tmp_path, monkeypatch):
 
 
 def test_the_corpus_covers_every_stage(cli, tmp_path, monkeypatch):
-    # Form (located in the file), the mesh, the ROI and handles on the mesh,
-    # the session, and the solve (exit 1) each refuse some case.
+    # Form (located in the file), the mesh, its pose, the ROI and handles on
+    # the mesh, the session, and the solve (exit 1) each refuse some case.
     seen = set()
     for scenario in MALFORMED_SCENARIOS:
         code, _, err = both(cli, [scenario.name, "--out", str(tmp_path / "out.ply")],
@@ -54,13 +70,15 @@ def test_the_corpus_covers_every_stage(cli, tmp_path, monkeypatch):
             seen.add("form")
         elif err.startswith("error: mesh: dfm_mesh_load: "):
             seen.add("mesh")
+        elif err.startswith(("error: pose: dfm_", "error: pose.animation: dfm_")):
+            seen.add("pose")
         elif err.startswith(f"error: {name}: dfm_session_create: "):
             seen.add("session")
         elif err.startswith(f"error: {name}: "):
             seen.add("edit")
         elif code == 1:
             seen.add("solve")
-    assert seen == {"form", "mesh", "edit", "session", "solve"}
+    assert seen == {"form", "mesh", "pose", "edit", "session", "solve"}
 
 
 @pytest.mark.parametrize("mesh", MALFORMED_MESHES, ids=lambda p: p.name)
@@ -98,15 +116,8 @@ def test_a_glTF_morph_target_edit_gives_the_same_files_and_report(cli, tmp_path,
                         tmp_path / f"{who}-report.json"]
     args = {who: ["edit.json", "--out", str(o[0]), "--roi-out", str(o[1]), "--report", str(o[2]),
                   "--morph-target", "Step", "--strict"] for who, o in outputs.items()}
-    tool = subprocess.run([cli, "deform", *args["tool"]], capture_output=True, text=True,
-                          cwd=tmp_path)
-    _, package = both(cli, args["package"], tmp_path, monkeypatch)
-    assert tool.returncode == 0 and package[0] == 0, tool.stderr + package[2]
-    reports = [json.loads(tool.stdout), json.loads(package[1])]
-    assert list(reports[0]) == list(reports[1])
+    reports = reports_of_both(cli, args, tmp_path, monkeypatch)
     assert len(reports[0]) == 19 and list(reports[0]["quality"]) == list(reports[1]["quality"])
-    for key in reports[0].keys() - TIMINGS:
-        assert reports[0][key] == reports[1][key], key
     assert json.loads(outputs["package"][2].read_text()) == reports[1]
     for mine, theirs in zip(outputs["package"][:2], outputs["tool"][:2]):
         assert mine.read_bytes() == theirs.read_bytes()

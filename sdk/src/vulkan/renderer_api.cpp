@@ -8,6 +8,7 @@
 
 #include "c_boundary.hpp"
 #include "camera_convert.hpp"
+#include "descriptor_layouts_vulkan.hpp"
 #include "dualform/dualform_vulkan.h"
 #include "render/png_writer.hpp"
 #include "render/renderer.hpp"
@@ -94,10 +95,6 @@ dfm_result to_view(const char* function, const dfm_vk_frame* frame, std::uint32_
     }
     return DFM_OK;
 }
-
-// What struct_size 0 stands for: the structs as they appeared (0.3).
-constexpr std::size_t overlay_desc_first = sizeof(dfm_vk_overlay_desc);
-constexpr std::size_t device_info_first = sizeof(dfm_vk_device_info);
 
 // Both present calls: the frame, the overlay's own result over the renderer's.
 dfm_result present_frame(const char* fn, dfm_vk_renderer* renderer, const dfm_vk_frame* frame,
@@ -351,8 +348,7 @@ DFM_API dfm_result dfm_vk_renderer_set_overlay(dfm_vk_renderer* renderer,
     return guarded(fn, [&]() -> dfm_result {
         if (!live(renderer)) return bad_handle(fn);
         dfm_vk_overlay_desc overlay;
-        if (dfm_result r = dfm::sdk::read_descriptor(fn, "desc", desc, overlay_desc_first, overlay);
-            r != DFM_OK) {
+        if (dfm_result r = dfm::sdk::read_descriptor(fn, "desc", desc, overlay); r != DFM_OK) {
             return r;
         }
         if (!renderer->impl->has_window()) {
@@ -388,13 +384,12 @@ DFM_API dfm_result dfm_vk_renderer_get_device(const dfm_vk_renderer* renderer,
     const char* fn = "dfm_vk_renderer_get_device";
     return guarded(fn, [&]() -> dfm_result {
         dfm_vk_device_info info;
-        if (dfm_result r = dfm::sdk::read_descriptor(fn, "out", out, device_info_first, info);
-            r != DFM_OK) {
+        if (dfm_result r = dfm::sdk::read_descriptor(fn, "out", out, info); r != DFM_OK) {
             return r;
         }
         // The host's struct_size says how many bytes are its own to write.
         const std::uint32_t struct_size = info.struct_size;
-        const std::size_t size = struct_size != 0 ? struct_size : device_info_first;
+        const std::size_t size = dfm::sdk::host_struct_size<dfm_vk_device_info>(struct_size);
         if (!live(renderer)) return bad_handle(fn);
         const render::Gpu& gpu = renderer->impl->gpu();
         info = dfm_vk_device_info{};
