@@ -84,14 +84,16 @@ private:
             fbx_object_name(fbx_string(doc_, doc_.property(n, 1)).value_or(std::string_view())));
     }
     // The objects connected (object to object) into `destination`, in the
-    // file's order, of node name `kind` and class `cls` (empty: any).
+    // file's order, of node name `kind` and class `cls` (empty: any). As
+    // Assimp takes them, every connection but an object-to-property one
+    // links objects, whatever its type says.
     std::vector<std::uint64_t> sources(std::uint64_t destination, std::string_view kind,
                                        std::string_view cls) const {
         std::vector<std::uint64_t> out;
         const auto [first, last] = into_.equal_range(destination);
         for (auto it = first; it != last; ++it) {
             const Connection& c = connections_[it->second];
-            if (c.type != "OO") continue;
+            if (c.type == "OP") continue;
             const FbxNode* n = object(c.source);
             if (n == nullptr || n->name != kind || (!cls.empty() && class_of(*n) != cls)) continue;
             out.push_back(c.source);
@@ -105,7 +107,7 @@ private:
         const auto [first, last] = out_of_.equal_range(source);
         for (auto it = first; it != last; ++it) {
             const Connection& c = connections_[it->second];
-            if (c.type != "OO") continue;
+            if (c.type == "OP") continue;
             const FbxNode* n = object(c.destination);
             if (n != nullptr && n->name == kind) out.push_back(c.destination);
         }
