@@ -53,6 +53,7 @@ private:
     Status arrays();
     Status property_entry(const FbxNode& p) const;
     Status property_entries();
+    Status animation_curve(const FbxNode& curve) const;
     Status header();
     Status settings();
     Status objects();
@@ -285,6 +286,53 @@ Status Scanner::property_entries() {
     return Status::ok();
 }
 
+// An animation curve as Assimp 5.2.5 can take it: times and values as many
+// and at least one, the times strictly ascending (it compares them past
+// the end of an empty list), the values finite and no pair of keys so far
+// apart in value, for their distance in time, that its splitting of a
+// rotation into steps under 180 degrees never advances (it inserts keys
+// until it does, without bound).
+Status Scanner::animation_curve(const FbxNode& curve) const {
+    const FbxNode* times = doc_.child(doc_.index_of(curve), "KeyTime");
+    const FbxNode* values = doc_.child(doc_.index_of(curve), "KeyValueFloat");
+    if (times == nullptr || values == nullptr) {
+        return error(Errc::parse_error, curve,
+                     "an animation curve needs KeyTime and KeyValueFloat");
+    }
+    std::vector<std::int64_t> t;
+    std::vector<double> v;
+    if (Status s = fbx_integers(doc_, *times, t); !s) return s;
+    if (Status s = fbx_doubles(doc_, *values, v); !s) return s;
+    if (t.empty() || t.size() != v.size()) {
+        return error(Errc::parse_error, curve,
+                     std::to_string(t.size()) + " key times and " + std::to_string(v.size()) +
+                         " values (as many, and at least one)");
+    }
+    double inserted = 0.0;
+    for (std::size_t k = 0; k < t.size(); ++k) {
+        if (!std::isfinite(v[k])) {
+            return error(Errc::numerical, *values, "value " + std::to_string(k) + " is not finite");
+        }
+        if (k == 0) continue;
+        if (t[k] <= t[k - 1]) {
+            return error(Errc::parse_error, *times,
+                         "key " + std::to_string(k) + ": times must ascend strictly");
+        }
+        const double jump =
+            std::abs(static_cast<double>(static_cast<float>(v[k]) - static_cast<float>(v[k - 1])));
+        if (jump < 180.0) continue;
+        const double span = static_cast<double>(t[k]) - static_cast<double>(t[k - 1]);
+        inserted += jump / 179.0;
+        if (span * 179.0 < 2.0 * jump || inserted > 1e6) {
+            return error(Errc::unsupported, *values,
+                         "key " + std::to_string(k) + ": a jump of " + std::to_string(jump) +
+                             " in " + std::to_string(span) +
+                             " time units, which Assimp would split into steps without end");
+        }
+    }
+    return Status::ok();
+}
+
 Status Scanner::header() {
     // Assimp refuses a file without the header's FBXVersion, or older than
     // 7.1, after it has built part of its document (which it then loses).
@@ -334,6 +382,9 @@ Status Scanner::objects() {
             return error(Errc::parse_error, n, "a second object with id " + std::to_string(*key));
         }
         scene_.largest_id = std::max(scene_.largest_id, *key);
+        if (n.name == "AnimationCurve") {
+            if (Status s = animation_curve(n); !s) return s;
+        }
     }
     return Status::ok();
 }

@@ -38,7 +38,6 @@ Loaded load(const std::filesystem::path& path) {
 }  // namespace
 
 TEST_CASE("fbx: a Blender cube with a shape key loads by control point, in metres, +Y up") {
-    if (!mesh::fbx_supported()) return;
     const Loaded l = load(small("cube.fbx"));
     CHECK(l.surface.vertex_count() == 26);
     CHECK(l.surface.face_count() == 48);
@@ -61,7 +60,6 @@ TEST_CASE("fbx: a Blender cube with a shape key loads by control point, in metre
 }
 
 TEST_CASE("fbx: binary 7.4, binary 7.5 and ASCII of one file load to the same mesh and skin") {
-    if (!mesh::fbx_supported()) return;
     const Loaded bin = load(small("strip.fbx"));
     CHECK(bin.surface.vertex_count() == 21);
     CHECK(bin.surface.face_count() == 24);
@@ -86,30 +84,7 @@ TEST_CASE("fbx: binary 7.4, binary 7.5 and ASCII of one file load to the same me
     }
 }
 
-TEST_CASE("fbx: the content tells FBX when the extension does not") {
-    std::string bytes;
-    REQUIRE(mesh::read_file_bytes(small("strip.fbx"), bytes));
-    CHECK(mesh::format_from_content(bytes) == mesh::FileFormat::fbx);
-    REQUIRE(mesh::read_file_bytes(small("strip-ascii.fbx"), bytes));
-    CHECK(mesh::format_from_content(bytes) == mesh::FileFormat::fbx);
-    CHECK(mesh::format_from_extension("a/B.FBX") == mesh::FileFormat::fbx);
-    if (!mesh::fbx_supported()) {
-        mesh::Mesh m;
-        const Status s = mesh::load_mesh(small("strip.fbx"), m);
-        CHECK(s.code() == Errc::unsupported);
-        CHECK(s.message().find("built without Assimp") != std::string::npos);
-        return;
-    }
-    const auto scratch = test::scratch_dir("fbx_sniff");
-    std::filesystem::copy_file(small("strip.fbx"), scratch / "strip.bin");
-    mesh::Mesh m;
-    const Status s = mesh::load_mesh(scratch / "strip.bin", m);
-    CHECK_MESSAGE(s.is_ok(), s.message());
-    CHECK(m.vertex_count() == 21);
-}
-
 TEST_CASE("fbx: a tree written back unchanged is the file's own bytes") {
-    if (!mesh::fbx_supported()) return;
     for (const char* name : {"cube.fbx", "strip.fbx", "strip-7500.fbx"}) {
         CAPTURE(name);
         const mesh::FbxDocument doc = test::parse_fbx_file(small(name).string());
@@ -118,7 +93,6 @@ TEST_CASE("fbx: a tree written back unchanged is the file's own bytes") {
 }
 
 TEST_CASE("fbx: an edit saved back changes the Vertices and normals only") {
-    if (!mesh::fbx_supported()) return;
     const Loaded in = load(small("cube.fbx"));
     mesh::Mesh edited = in.surface;
     std::size_t moved = 0;
@@ -144,7 +118,6 @@ TEST_CASE("fbx: an edit saved back changes the Vertices and normals only") {
 }
 
 TEST_CASE("fbx: a morph target saved back is a new blend shape channel, the rest as it was") {
-    if (!mesh::fbx_supported()) return;
     const Loaded in = load(small("strip.fbx"));
     mesh::Mesh edited = in.surface;
     for (glm::dvec3& p : edited.positions) {
@@ -183,7 +156,6 @@ TEST_CASE("fbx: a morph target saved back is a new blend shape channel, the rest
 }
 
 TEST_CASE("fbx: what is not written back as FBX is refused, naming the file") {
-    if (!mesh::fbx_supported()) return;
     const auto dir = test::scratch_dir("fbx_refused");
     const Loaded ascii = load(small("strip-ascii.fbx"));
     Status s = mesh::save_host_mesh(dir / "out.fbx", ascii.surface, ascii.surface, ascii.host);
