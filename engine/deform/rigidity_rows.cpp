@@ -34,10 +34,13 @@ std::uint32_t opposite_vertex(const mesh::Triangle& t, const mesh::Triangle& oth
 }
 
 // The face edges' rows against the dual edges' for an edge of mean length.
-// On the camel's neck 0.1 to 0.3 fold no face (0.03 left a needle turned
-// over); 0.2 keeps lengths better than 0.1 at the same iteration count
-// (docs/method.md).
-constexpr double relative_edge_weight = 0.2;
+// A face edge's row weighs its relative change, so a short edge squeezed
+// next to a handle costs what a long one does: at 0.2 a hoof pushed into
+// its leg turned a ring of faces over at the handle's rim (the camel's 71),
+// at 0.95 (rigidity_weight 0.04) none; the relative weight also keeps the
+// camel head's needles, whose turning over changes no length by much, from
+// turning over (docs/method.md).
+constexpr double relative_edge_weight = 0.95;
 
 // In the surface's order (row_order.hpp) the rows' faces lie anywhere in
 // the mesh's arrays: the set-up fetches a row's face 2 · build_ahead rows

@@ -71,9 +71,12 @@ inline std::uint32_t slot_unknown(const RigidityStencil& s, std::size_t i, std::
 inline constexpr std::size_t balance_unknowns = 2500;
 
 // The rigidity rows' weight against the dual Laplacian rows for a ROI of up
-// to balance_unknowns unknowns. More keeps lengths better and converges more
-// slowly (docs/method.md).
-inline constexpr double rigidity_weight = 0.1;
+// to balance_unknowns unknowns. More keeps lengths closer to ARAP's and
+// loses detail (the dual magnitude error and the normal change rise): 0.04,
+// with the face edges at relative_edge_weight, kept the detail of the
+// previous 0.1 (face edges 0.2) on every limb of the quality table while
+// its compressive pushes stopped folding (docs/method.md).
+inline constexpr double rigidity_weight = 0.04;
 
 // rigidity_weight balanced for a ROI of `unknowns` unknowns.
 double balanced_rigidity_weight(std::size_t unknowns);
@@ -82,7 +85,9 @@ double balanced_rigidity_weight(std::size_t unknowns);
 // field (rotation_clusters.hpp); the rest is the row's own fit. Half and
 // half kept the limbs' bends and twists within a few percent of the rows'
 // own rotations while the whole armadillo converged in half the iterations
-// and compressive pushes folded far less (docs/method.md).
+// and compressive pushes folded far less. θ is a term of the energy, not an
+// accelerator: the fixed point depends on it, and at θ = 0 the pushes'
+// minimisers fold (docs/method.md, "What the iteration converges to").
 inline constexpr double coarse_share = 0.5;
 
 // The clusters of the coarse rotation field over the dual rows of `rows`

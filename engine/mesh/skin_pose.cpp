@@ -104,7 +104,8 @@ Singular singular_values(const double m[9]) {
     double g[3][3];
     for (int a = 0; a < 3; ++a) {
         for (int b = 0; b < 3; ++b) {
-            g[a][b] = m[3 * a] * m[3 * b] + m[3 * a + 1] * m[3 * b + 1] + m[3 * a + 2] * m[3 * b + 2];
+            g[a][b] =
+                m[3 * a] * m[3 * b] + m[3 * a + 1] * m[3 * b + 1] + m[3 * a + 2] * m[3 * b + 2];
         }
     }
     for (int sweep = 0; sweep < 32; ++sweep) {

@@ -101,7 +101,7 @@ namespace {
 // The fitted method's rows of A after the dual rows, written out here from
 // their definition (docs/method.md): for each dual row's face f and each
 // k, the dual edge between the vertices opposite f's k-th shared edge,
-// w/3 (v_c − v_d), then f's k-th edge, w 0.2 l̄/l (v_a − v_b); only rows
+// w/3 (v_c − v_d), then f's k-th edge, w 0.95 l̄/l (v_a − v_b); only rows
 // that touch an unknown.
 void append_rigidity_rows(const deform::MeshModel& model, const deform::UnknownMap& unknowns,
                           double weight, deform::SystemRows& rows) {
@@ -136,7 +136,7 @@ void append_rigidity_rows(const deform::MeshModel& model, const deform::UnknownM
             const std::uint32_t a = t[k];
             const std::uint32_t b = t[(k + 1) % 3];
             const double length = glm::length(mesh.positions[a] - mesh.positions[b]);
-            if (length > 0.0) add(a, b, 0.2 * mean_edge / length, f);
+            if (length > 0.0) add(a, b, 0.95 * mean_edge / length, f);
         }
     }
 }

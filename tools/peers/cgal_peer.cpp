@@ -1,11 +1,17 @@
-// dualform_cgal_peer: CGAL's Surface_mesh_deformation (SRE-ARAP or the
-// original ARAP) on an edit defined by its vertex sets, and the quality
-// figures of docs/benchmarks.md for its result or for another engine's
-// (--eval). The figures come from the rest and deformed positions alone.
+// dualform_cgal_peer: CGAL's Surface_mesh_deformation (SRE-ARAP, the
+// original ARAP or ARAP's spokes and rims) on an edit defined by its vertex
+// sets, and the quality figures of docs/benchmarks.md for its result or for
+// another engine's (--eval). The figures come from the rest and deformed
+// positions alone.
 //
 //   dualform_cgal_peer --mesh M.off (--roi-file F | --roi-ball V R | --roi-all)
 //       (--handles-file F | --handle-ball V R) [--rotate X,Y,Z,DEGREES] [--translate X,Y,Z]
-//       [--mode sre|arap] [--iterations N] [--out OUT.off] [--eval OTHER.off]
+//       [--mode sre|arap|spokes_and_rims] [--iterations N] [--until D]
+//       [--out OUT.off] [--eval OTHER.off]
+//
+// --iterations caps CGAL's iterations; --until D stops them earlier, once
+// an iteration moves no vertex by more than D of the diagonal (converged
+// ARAP: --mode spokes_and_rims --iterations 1000 --until 1e-9).
 //
 // Radii and the translation are fractions of the bounding-box diagonal; the
 // rotation turns the handles about their rest centroid, before the
@@ -51,6 +57,7 @@ struct Options {
     Vec axis = Vec::UnitZ();
     double degrees = 0.0;
     int iterations = 10;
+    double until = 0.0;  // of the diagonal; 0: run every iteration
 };
 
 [[noreturn]] void fail(const std::string& message) {
@@ -103,6 +110,8 @@ Options parse_options(int argc, char** argv) {
             o.mode = value();
         else if (a == "--iterations")
             o.iterations = std::stoi(value());
+        else if (a == "--until")
+            o.until = std::stod(value());
         else if (a == "--out")
             o.out = value();
         else if (a == "--eval")
@@ -111,7 +120,10 @@ Options parse_options(int argc, char** argv) {
             fail("unknown argument " + a);
     }
     if (o.mesh.empty()) fail("--mesh is required");
-    if (o.mode != "sre" && o.mode != "arap") fail("--mode is sre or arap");
+    if (o.mode != "sre" && o.mode != "arap" && o.mode != "spokes_and_rims")
+        fail("--mode is sre, arap or spokes_and_rims");
+    if (o.iterations < 1) fail("--iterations must be at least 1");
+    if (!(o.until >= 0.0)) fail("--until must not be negative");
     return o;
 }
 
@@ -234,7 +246,7 @@ Edit make_edit(const Options& o, const SurfaceMesh& m, const std::vector<Vec>& p
 
 struct Figures {
     double handle_error = 0.0, edge_mean = 0.0, edge_max = 0.0, normal_mean = 0.0;
-    double normal_max = 0.0, arap = 0.0, fixed_move = 0.0;
+    double normal_max = 0.0, arap = 0.0, fixed_move = 0.0, dual_magnitude = 0.0;
     std::size_t flipped = 0, creased = 0, edges = 0, faces = 0;
 };
 
@@ -286,6 +298,53 @@ double arap_energy(const SurfaceMesh& m, const Edit& e, const std::vector<Vec>& 
         }
     }
     return scale > 0.0 ? energy / scale : 0.0;
+}
+
+// Dualform's dual magnitude error (docs/scenarios.md): over the faces that
+// touch the ROI and whose three neighbours' centroids span a plane, the
+// change of |l_f|, l_f = Σ_j w_j c_j − c_f for the rest weights w of the
+// foot of c_f on that plane, from its rest height |h_f|, summed and over
+// the sum of |h_f|. The detail a deformation keeps: a rigid motion keeps
+// every l_f's length.
+double dual_magnitude_error(const SurfaceMesh& m, const Edit& e, const std::vector<Vec>& p,
+                            const std::vector<Vec>& q) {
+    std::vector<Vec> rest(m.number_of_faces()), now(m.number_of_faces());
+    for (auto face : m.faces()) {
+        Vec a = Vec::Zero(), b = Vec::Zero();
+        for (Vertex v : CGAL::vertices_around_face(m.halfedge(face), m)) {
+            a += p[v.idx()];
+            b += q[v.idx()];
+        }
+        rest[face.idx()] = a / 3.0;
+        now[face.idx()] = b / 3.0;
+    }
+    double error = 0.0, sum = 0.0;
+    for (auto face : m.faces()) {
+        bool touches = false;
+        std::size_t ring[3], k = 0;
+        for (auto h : CGAL::halfedges_around_face(m.halfedge(face), m)) {
+            touches = touches || e.roi[m.target(h).idx()];
+            const auto o = m.opposite(h);
+            if (k < 3 && !m.is_border(o)) ring[k++] = m.face(o).idx();
+        }
+        if (!touches || k < 3) continue;
+        const std::size_t f = face.idx();
+        const Vec cross = (rest[ring[1]] - rest[ring[0]]).cross(rest[ring[2]] - rest[ring[0]]);
+        const double scale = (rest[ring[1]] - rest[ring[0]]).squaredNorm() +
+                             (rest[ring[2]] - rest[ring[0]]).squaredNorm();
+        if (!(scale > 0.0) || !(cross.norm() > 1e-12 * scale)) continue;
+        const Vec normal = cross.normalized();
+        const double height = (rest[f] - rest[ring[0]]).dot(normal);
+        const Vec foot = rest[f] - height * normal;
+        const double area2 = cross.dot(normal);
+        const double w0 = (rest[ring[1]] - foot).cross(rest[ring[2]] - foot).dot(normal) / area2;
+        const double w1 = (rest[ring[2]] - foot).cross(rest[ring[0]] - foot).dot(normal) / area2;
+        const Vec l =
+            w0 * now[ring[0]] + w1 * now[ring[1]] + (1.0 - w0 - w1) * now[ring[2]] - now[f];
+        error += std::abs(l.norm() - std::abs(height));
+        sum += std::abs(height);
+    }
+    return sum > 0.0 ? error / sum : 0.0;
 }
 
 Figures measure(const SurfaceMesh& m, const Edit& e, const std::vector<Vec>& p,
@@ -340,13 +399,25 @@ Figures measure(const SurfaceMesh& m, const Edit& e, const std::vector<Vec>& p,
         if (std::abs(turn) > 0.5 * std::numbers::pi) ++f.creased;
     }
     f.arap = arap_energy(m, e, p, q);
+    f.dual_magnitude = dual_magnitude_error(m, e, p, q);
     return f;
 }
 
 // ---------------------------------------------------------------- CGAL
 
+// CGAL's iterations and the last one's largest vertex move / diagonal.
+struct Run {
+    int iterations = 0;
+    double last_update = 0.0;
+    double ms = 0.0;
+};
+
+// Runs `iterations` of CGAL's deformation from rest, one at a time (each
+// call goes on from the last one's positions and rotations, as one call of
+// many iterations does), stopping early once an iteration moves no ROI
+// vertex by more than `until` of the diagonal.
 template <CGAL::Deformation_algorithm_tag Tag>
-std::vector<Vec> deform(SurfaceMesh m, const Edit& e, int iterations, double& ms) {
+std::vector<Vec> deform(SurfaceMesh m, const Edit& e, int iterations, double until, Run& run) {
     CGAL::Surface_mesh_deformation<SurfaceMesh, CGAL::Default, CGAL::Default, Tag> deformer(m);
     std::vector<Vertex> handles;
     for (Vertex v : m.vertices()) {
@@ -361,8 +432,25 @@ std::vector<Vec> deform(SurfaceMesh m, const Edit& e, int iterations, double& ms
         deformer.set_target_position(v, Point(t.x(), t.y(), t.z()));
     }
     const auto start = std::chrono::steady_clock::now();
-    deformer.deform(static_cast<unsigned int>(iterations), 0.0);
-    ms =
+    if (until <= 0.0) {
+        deformer.deform(static_cast<unsigned int>(iterations), 0.0);
+        run.iterations = iterations;
+    } else {
+        std::vector<Vec> last = positions_of(m);
+        while (run.iterations < iterations) {
+            deformer.deform(1, 0.0);
+            ++run.iterations;
+            const std::vector<Vec> now = positions_of(m);
+            run.last_update = 0.0;
+            for (std::size_t v = 0; v < now.size(); ++v) {
+                if (e.roi[v])
+                    run.last_update = std::max(run.last_update, (now[v] - last[v]).norm() / e.diag);
+            }
+            last = now;
+            if (run.last_update < until) break;
+        }
+    }
+    run.ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return positions_of(m);
 }
@@ -389,32 +477,36 @@ int main(int argc, char** argv) {
         const std::vector<Vec> p = positions_of(m);
         const Edit e = make_edit(o, m, p);
         std::vector<Vec> q;
-        double ms = 0.0;
+        Run run;
         std::string engine;
         if (!o.eval.empty()) {
             q = positions_of(read_mesh(o.eval));
             if (q.size() != p.size()) fail(o.eval + ": a different vertex count");
             engine = "eval";
         } else if (o.mode == "sre") {
-            q = deform<CGAL::SRE_ARAP>(m, e, o.iterations, ms);
+            q = deform<CGAL::SRE_ARAP>(m, e, o.iterations, o.until, run);
             engine = "CGAL SRE_ARAP";
-        } else {
-            q = deform<CGAL::ORIGINAL_ARAP>(m, e, o.iterations, ms);
+        } else if (o.mode == "arap") {
+            q = deform<CGAL::ORIGINAL_ARAP>(m, e, o.iterations, o.until, run);
             engine = "CGAL ORIGINAL_ARAP";
+        } else {
+            q = deform<CGAL::SPOKES_AND_RIMS>(m, e, o.iterations, o.until, run);
+            engine = "CGAL SPOKES_AND_RIMS";
         }
         if (!o.out.empty()) write_off(o.out, m, q);
         const Figures f = measure(m, e, p, q);
         std::printf(
-            "{\"engine\":\"%s\",\"iterations\":%d,\"deform_ms\":%.3f,\"n_roi\":%zu,"
-            "\"n_handles\":%zu,\"n_fixed_in_roi\":%zu,\"handle_err_max\":%.3g,"
+            "{\"engine\":\"%s\",\"iterations\":%d,\"last_update\":%.3g,\"deform_ms\":%.3f,"
+            "\"n_roi\":%zu,\"n_handles\":%zu,\"n_fixed_in_roi\":%zu,\"handle_err_max\":%.3g,"
             "\"edge_log_mean\":%.5f,\"edge_log_max\":%.4f,\"normal_dev_mean_deg\":%.3f,"
             "\"normal_dev_max_deg\":%.2f,\"n_flipped\":%zu,\"n_creased\":%zu,\"arap_energy_rel\":%."
             "5g,"
-            "\"fixed_disp_max\":%.3g,\"n_roi_edges\":%zu,\"n_roi_faces\":%zu}\n",
-            engine.c_str(), o.eval.empty() ? o.iterations : 0, ms, count(e.roi), count(e.handle),
+            "\"dual_magnitude_error\":%.5f,\"fixed_disp_max\":%.3g,\"n_roi_edges\":%zu,"
+            "\"n_roi_faces\":%zu}\n",
+            engine.c_str(), run.iterations, run.last_update, run.ms, count(e.roi), count(e.handle),
             count(e.fixed) - (p.size() - count(e.roi)), f.handle_error, f.edge_mean, f.edge_max,
-            f.normal_mean, f.normal_max, f.flipped, f.creased, f.arap, f.fixed_move, f.edges,
-            f.faces);
+            f.normal_mean, f.normal_max, f.flipped, f.creased, f.arap, f.dual_magnitude,
+            f.fixed_move, f.edges, f.faces);
         return 0;
     } catch (const std::exception& x) {
         std::fprintf(stderr, "dualform_cgal_peer: %s\n", x.what());

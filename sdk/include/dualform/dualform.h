@@ -590,7 +590,7 @@ DFM_API dfm_result dfm_mesh_get_joint_info(const dfm_mesh* mesh, uint32_t joint,
 
 /* One animation of the file (dfm_mesh_get_animation_info). */
 typedef struct dfm_animation_info {
-    const char* name; /* its name, or "animation_N"; lives as long as the mesh */
+    const char* name;              /* its name, or "animation_N"; lives as long as the mesh */
     double start;                  /* its first key, in seconds */
     double end;                    /* its last key, in seconds */
     uint32_t translation_channels; /* channels that animate a node's translation */

@@ -28,7 +28,7 @@ def test_docs_example(tmp_path, monkeypatch, cli):
     assert lines[0].startswith("138 ROI vertices; WaterFillDiagnosis(loops=1, "
                                "bounded_by_last_loop=True, suspect=False)")
     assert "converged: True" in lines[1]
-    assert lines[2].startswith("hoof moved by 0.1040")
+    assert lines[2].startswith("hoof moved by 0.10399")
     assert os.path.exists("cow-leg.ply")
     subprocess.run([cli, "deform", str(REPO / "tests" / "scenarios" / "cow-front-leg-step.json"),
                     "--out", "tool.ply"], check=True, stdout=subprocess.DEVNULL)
