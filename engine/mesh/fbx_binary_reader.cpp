@@ -28,18 +28,6 @@ std::uint64_t read_le(const std::string& b, std::size_t at, std::size_t width) {
     return v;
 }
 
-std::size_t array_width(char type) {
-    switch (type) {
-        case 'f':
-        case 'i': return 4;
-        case 'd':
-        case 'l': return 8;
-        case 'b':
-        case 'c': return 1;
-        default: return 0;
-    }
-}
-
 std::size_t scalar_width(char type) {
     switch (type) {
         case 'Y': return 2;
@@ -230,7 +218,7 @@ private:
                                  std::to_string(left - 4) + " bytes left");
             }
             prop.end = prop.begin + 4 + static_cast<std::size_t>(n);
-        } else if (const std::size_t width = array_width(type); width != 0) {
+        } else if (const std::size_t width = fbx_array_width(type); width != 0) {
             if (left < 12) return error(p, path(), which() + ": truncated array header");
             const std::uint64_t n = read_le(b_, prop.begin, 4);
             const std::uint64_t encoding = read_le(b_, prop.begin + 4, 4);

@@ -37,6 +37,18 @@ Status FbxDocument::error(Errc code, const FbxNode& node, std::string_view what)
     return where(node).error(code, "node " + path(node) + ": " + std::string(what));
 }
 
+std::size_t fbx_array_width(char type) {
+    switch (type) {
+        case 'f':
+        case 'i': return 4;
+        case 'd':
+        case 'l': return 8;
+        case 'b':
+        case 'c': return 1;
+        default: return 0;
+    }
+}
+
 bool looks_like_fbx(std::string_view head) {
     if (head.starts_with(fbx_binary_magic.substr(0, 18))) return true;
     // ASCII FBX opens with the comment "; FBX 7.4.0 project file", perhaps

@@ -79,6 +79,10 @@ inline constexpr std::string_view fbx_binary_magic{"Kaydara FBX Binary  \0\x1a\0
 // Nodes nest at most this deep; FBX's own files nest fewer than 10 levels.
 inline constexpr std::size_t fbx_max_depth = 64;
 
+// The bytes of one element of a binary array of type code `type` (f d l i
+// b c); 0 for any other code.
+std::size_t fbx_array_width(char type);
+
 // Whether `head` starts like an FBX file: the binary magic, or ASCII FBX's
 // "; FBX" header comment.
 bool looks_like_fbx(std::string_view head);

@@ -22,18 +22,6 @@ T load(const std::string& b, std::size_t at) {
     return v;
 }
 
-std::uint32_t width_of(char type) {
-    switch (type) {
-        case 'f':
-        case 'i': return 4;
-        case 'd':
-        case 'l': return 8;
-        case 'b':
-        case 'c': return 1;
-        default: return 0;
-    }
-}
-
 // Inflates the array's stored bytes. With `out` it must receive exactly
 // `expected` bytes; without, the bytes are counted through a small buffer.
 Status inflate_array(const FbxDocument& doc, const FbxNode& node, const FbxProperty& p,
@@ -102,7 +90,7 @@ Status inflate_array(const FbxDocument& doc, const FbxNode& node, const FbxPrope
 // The raw little-endian bytes of a binary array, inflated where needed.
 Status array_bytes(const FbxDocument& doc, const FbxNode& node, const FbxProperty& p,
                    std::string& scratch, const unsigned char*& data) {
-    const std::size_t size = std::size_t{p.count} * width_of(p.type);
+    const std::size_t size = std::size_t{p.count} * fbx_array_width(p.type);
     if (p.encoding == 0) {
         data = reinterpret_cast<const unsigned char*>(doc.bytes.data() + p.begin + 12);
         return Status::ok();
@@ -158,7 +146,7 @@ bool for_each_ascii_value(std::string_view t, F&& each) {
 const FbxProperty* array_of(const FbxDocument& doc, const FbxNode& node) {
     if (node.property_count != 1) return nullptr;
     const FbxProperty& p = doc.property(node, 0);
-    return (p.type == 'a' || width_of(p.type) != 0) ? &p : nullptr;
+    return (p.type == 'a' || fbx_array_width(p.type) != 0) ? &p : nullptr;
 }
 
 template <typename T, typename FromBinary, typename FromText>
@@ -329,8 +317,8 @@ std::size_t fbx_value_count(const FbxDocument& doc, const FbxNode& node) {
 }
 
 Status fbx_check_array(const FbxDocument& doc, const FbxNode& node, const FbxProperty& p) {
-    if (p.encoding != 1 || width_of(p.type) == 0) return Status::ok();
-    return inflate_array(doc, node, p, std::size_t{p.count} * width_of(p.type), nullptr);
+    if (p.encoding != 1 || fbx_array_width(p.type) == 0) return Status::ok();
+    return inflate_array(doc, node, p, std::size_t{p.count} * fbx_array_width(p.type), nullptr);
 }
 
 }  // namespace dfm::mesh
