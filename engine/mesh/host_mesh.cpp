@@ -2,6 +2,7 @@
 
 #include <new>
 
+#include "mesh/fbx_host.hpp"
 #include "mesh/gltf_io.hpp"
 #include "mesh/skin_weld.hpp"
 
@@ -15,13 +16,20 @@ Status load_host_mesh(const std::filesystem::path& spec, Mesh& surface, HostMesh
     std::string file, selector;
     split_gltf_spec(spec.string(), file, selector);
     const std::filesystem::path path(file);
-    if (format_from_extension(path) != FileFormat::gltf) {
+    const std::optional<FileFormat> format = format_from_extension(path);
+    const std::optional<FileFormat> whole = format_from_extension(spec);
+    if (format != FileFormat::gltf && whole != FileFormat::fbx) {
         return load_mesh(spec, surface, report);
     }
     LoadReport local;
     LoadReport& r = report ? *report : local;
     r = LoadReport{};
     try {
+        if (whole == FileFormat::fbx) {
+            std::string bytes;
+            if (Status s = read_file_bytes(spec, bytes); !s) return s;
+            return load_fbx_host(std::move(bytes), spec.string(), weld, surface, host, r);
+        }
         std::string bytes;
         if (Status s = read_file_bytes(path, bytes); !s) return s;
         const ExternalFiles files{path.parent_path().empty() ? "." : path.parent_path(),
@@ -57,13 +65,23 @@ std::vector<glm::dvec3> host_positions(const Mesh& surface, const HostMesh& host
 Status save_host_mesh(const std::filesystem::path& path, const Mesh& bind, const Mesh& shown,
                       const HostMesh& host, const WriteOptions& options) {
     const std::string name = path.string();
-    const bool gltf = format_from_extension(path) == FileFormat::gltf;
-    if (!options.morph_target.empty() && (!gltf || !host.gltf)) {
+    const std::optional<FileFormat> format = format_from_extension(path);
+    const bool gltf = format == FileFormat::gltf;
+    const bool fbx = format == FileFormat::fbx;
+    if (fbx && !host.fbx) {
         return Status(Errc::unsupported,
                       name +
-                          ": a morph target is written only to .gltf or .glb, for a mesh "
-                          "loaded from glTF (it is the difference from that asset)");
+                          ": FBX is written only back into the FBX file the mesh was loaded "
+                          "from (docs/fbx.md)");
     }
+    if (!options.morph_target.empty() && !(gltf && host.gltf) && !(fbx && host.fbx)) {
+        return Status(Errc::unsupported,
+                      name +
+                          ": a morph target is written only to .gltf or .glb for a mesh loaded "
+                          "from glTF, or to .fbx for one loaded from FBX (it is the difference "
+                          "from that asset)");
+    }
+    if (fbx) return save_fbx_host(path, bind, host, options);
     if (!gltf || !host.weld) return save_mesh(path, shown, options);
     try {
         const bool binary = path.extension() == ".glb" || path.extension() == ".GLB";

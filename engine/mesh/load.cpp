@@ -5,6 +5,8 @@
 #include <fstream>
 #include <new>
 
+#include "mesh/fbx_document.hpp"
+#include "mesh/fbx_host.hpp"
 #include "mesh/gltf_io.hpp"
 #include "mesh/host_mesh.hpp"
 #include "mesh/mesh_builder.hpp"
@@ -19,6 +21,7 @@ const char* format_name(FileFormat format) {
         case FileFormat::obj: return "OBJ";
         case FileFormat::ply: return "PLY";
         case FileFormat::gltf: return "glTF";
+        case FileFormat::fbx: return "FBX";
     }
     return "unknown";
 }
@@ -30,11 +33,13 @@ std::optional<FileFormat> format_from_extension(const std::filesystem::path& pat
     if (ext == ".obj") return FileFormat::obj;
     if (ext == ".ply") return FileFormat::ply;
     if (ext == ".gltf" || ext == ".glb") return FileFormat::gltf;
+    if (ext == ".fbx") return FileFormat::fbx;
     return std::nullopt;
 }
 
 std::optional<FileFormat> format_from_content(std::string_view head) {
     if (head.starts_with("glTF")) return FileFormat::gltf;
+    if (looks_like_fbx(head)) return FileFormat::fbx;
     if (head.starts_with("ply\n") || head.starts_with("ply\r\n")) return FileFormat::ply;
     for (std::string_view key : {"OFF", "COFF", "NOFF", "CNOFF", "STOFF", "STCOFF", "STNOFF"}) {
         if (head.starts_with(key) && (head.size() == key.size() || head[key.size()] == ' ' ||
@@ -106,13 +111,18 @@ Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view so
             weld_skinned(host, skin, {}, std::string(source), out, weld, surface_skin, r);
             return Status::ok();
         }
+        if (format == FileFormat::fbx) {
+            HostMesh host;
+            return load_fbx_host(std::string(bytes), source, {}, out, host, r);
+        }
         MeshBuilder builder(r);
         Status s;
         switch (format) {
             case FileFormat::off: s = read_off(bytes, source, builder); break;
             case FileFormat::obj: s = read_obj(bytes, source, builder); break;
             case FileFormat::ply: s = read_ply(bytes, source, builder); break;
-            case FileFormat::gltf: break;
+            case FileFormat::gltf:
+            case FileFormat::fbx: break;
         }
         if (!s) return s;
         out = builder.take();
@@ -125,7 +135,8 @@ Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view so
 
 Status load_mesh(const std::filesystem::path& path, Mesh& out, LoadReport* report) {
     out = Mesh{};
-    if (format_from_extension(gltf_file_of(path))) {
+    if (format_from_extension(gltf_file_of(path)) ||
+        format_from_extension(path) == FileFormat::fbx) {
         HostMesh host;
         return load_host_mesh(path, out, host, report);
     }
@@ -137,7 +148,8 @@ Status load_mesh(const std::filesystem::path& path, Mesh& out, LoadReport* repor
         if (!format) {
             return Status(
                 Errc::unsupported,
-                path.string() + ": unknown mesh format (expected .off, .obj, .ply, .gltf or .glb)");
+                path.string() +
+                    ": unknown mesh format (expected .off, .obj, .ply, .gltf, .glb or .fbx)");
         }
         return parse_mesh(bytes, *format, path.string(), out, report);
     } catch (const std::bad_alloc&) {

@@ -12,7 +12,7 @@
 
 namespace dfm::mesh {
 
-enum class FileFormat { off, obj, ply, gltf };  // gltf: .gltf and .glb
+enum class FileFormat { off, obj, ply, gltf, fbx };  // gltf: .gltf and .glb
 
 const char* format_name(FileFormat format);
 
@@ -28,10 +28,11 @@ struct LoadReport {
     static constexpr std::size_t max_warnings = 20;
 };
 
-// Loads an OFF, OBJ, PLY or glTF file (.gltf, .glb, optionally with
-// "#mesh=NAME"; split copies welded exactly, see host_mesh.hpp for the host's
-// numbering). The format comes from the extension, or from the first bytes
-// when the extension says nothing. On failure `out` is left
+// Loads an OFF, OBJ, PLY, glTF (.gltf, .glb, optionally with "#mesh=NAME";
+// split copies welded exactly) or FBX file (binary or ASCII 7.x, read
+// through Assimp where the build has it; docs/fbx.md); see host_mesh.hpp
+// for the host's numbering. The format comes from the extension, or from the
+// first bytes when the extension says nothing. On failure `out` is left
 // empty and the status names the file, the line (or byte offset) and the
 // element. Never throws. Only glTF follows references to other files (its
 // external buffers), and only inside the file's own folder (gltf_io.hpp);
@@ -45,6 +46,9 @@ Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view so
 
 std::optional<FileFormat> format_from_extension(const std::filesystem::path& path);
 std::optional<FileFormat> format_from_content(std::string_view head);
+
+// Whether this build reads and writes FBX (DUALFORM_FBX: built with Assimp).
+bool fbx_supported();
 
 // A file's whole contents; the status names the file and what failed.
 Status read_file_bytes(const std::filesystem::path& path, std::string& bytes);

@@ -13,7 +13,8 @@ Status save_mesh(const std::filesystem::path& path, const Mesh& mesh, const Writ
     const std::optional<FileFormat> format = format_from_extension(path);
     if (!format) {
         return Status(Errc::unsupported,
-                      name + ": unknown mesh format (expected .off, .obj, .ply, .gltf or .glb)");
+                      name +
+                          ": unknown mesh format (expected .off, .obj, .ply, .gltf, .glb or .fbx)");
     }
     try {
         std::string bytes;
@@ -25,6 +26,11 @@ Status save_mesh(const std::filesystem::path& path, const Mesh& mesh, const Writ
                 write_fresh_gltf(mesh.positions, mesh.triangles, path.stem().string(),
                                  path.extension() == ".glb" || path.extension() == ".GLB", bytes);
                 break;
+            case FileFormat::fbx:
+                return Status(Errc::unsupported,
+                              name +
+                                  ": FBX is written only back into the FBX file a mesh was "
+                                  "loaded from (docs/fbx.md)");
         }
         return write_file_atomically(path, bytes);
     } catch (const std::bad_alloc&) {

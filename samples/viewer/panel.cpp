@@ -214,11 +214,11 @@ void Panel::draw_file() {
     if (ImGui::Button(help_open_ ? "Hide help" : "Help (H)")) toggle_help();
     remember("help");
     ImGui::PushItemWidth(-1);
-    ImGui::InputTextWithHint("##morph", "morph target name (glTF)", morph_target_,
+    ImGui::InputTextWithHint("##morph", "morph target name (glTF, FBX)", morph_target_,
                              sizeof morph_target_);
     remember("morph");
     ImGui::PopItemWidth();
-    note("Format by extension: .off .obj .ply .gltf .glb");
+    note("Format by extension: .off .obj .ply .gltf .glb .fbx");
     if (!file_message_.empty()) ImGui::TextWrapped("%s", file_message_.c_str());
 }
 

@@ -1,5 +1,6 @@
 // libFuzzer target for one mesh loader, chosen at build time by
-// DUALFORM_FUZZ_FORMAT (off, obj, ply or gltf: JSON or GLB by the magic): parse_mesh must take any
+// DUALFORM_FUZZ_FORMAT (off, obj, ply, gltf: JSON or GLB by the magic, or fbx:
+// binary or ASCII by the magic, through the pre-scan and Assimp): parse_mesh must take any
 // bytes without crashing, hanging or leaking, and keep its contract.
 
 #include <cstddef>

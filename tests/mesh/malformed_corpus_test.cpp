@@ -47,6 +47,8 @@ TEST_CASE("malformed corpus: each file fails with its expected, located error") 
     CHECK(cases.size() >= 30);
     for (const Expectation& e : cases) {
         CAPTURE(e.file);
+        // A build without FBX refuses those files as a whole (fbx_test.cpp).
+        if (e.file.starts_with("fbx-") && !dfm::mesh::fbx_supported()) continue;
         const std::filesystem::path path = dir / e.file;
         dfm::mesh::Mesh m;
         const dfm::Status s = dfm::mesh::load_mesh(path, m);

@@ -51,8 +51,9 @@ std::string help_text() {
     out +=
         "\n"
         "exit codes: 0 success, 2 bad input (error: ... on stderr), 1 the work failed\n"
-        "meshes: OFF, OBJ, PLY or glTF 2.0 files (.gltf, .glb; FILE.glb#mesh=NAME or\n"
-        "        #mesh=INDEX for one mesh of the asset; docs/gltf.md); model:NAME is\n"
+        "meshes: OFF, OBJ, PLY, glTF 2.0 (.gltf, .glb; FILE.glb#mesh=NAME or\n"
+        "        #mesh=INDEX for one mesh of the asset; docs/gltf.md) or FBX 7.x files\n"
+        "        (.fbx, binary or ASCII; docs/fbx.md); model:NAME is\n"
         "        NAME.off in the model cache ($DUALFORM_MODELS, default\n"
         "        ~/.cache/dualform/models; tools/fetch-models fills it)\n";
     return out;

@@ -24,8 +24,8 @@ inline constexpr CommandHelp convert_help{
     "IN OUT [--ply ascii|binary_little_endian|binary_big_endian] [--ply-float]\n"
     "[--obj-normals]",
     "write IN in the format OUT's extension names (.off .obj .ply .gltf\n"
-    ".glb); --ply-float: PLY with float coordinates; --obj-normals: OBJ with\n"
-    "vertex normals"};
+    ".glb, or .fbx from an FBX IN); --ply-float: PLY with float coordinates;\n"
+    "--obj-normals: OBJ with vertex normals"};
 
 inline constexpr CommandHelp deform_help{
     "deform",
@@ -35,8 +35,9 @@ inline constexpr CommandHelp deform_help{
     "mesh; prints its report as JSON. --roi-out: the ROI, one vertex a line;\n"
     "--strict: exit 1 unless the solve converged; --hard-handles: handles\n"
     "exactly on their targets; --method: the outer iteration (docs/method.md);\n"
-    "--morph-target NAME: for a glTF mesh, keep the asset's positions and add\n"
-    "the edit as the morph target NAME (docs/gltf.md)"};
+    "--morph-target NAME: for a glTF or FBX mesh, keep the asset's positions\n"
+    "and add the edit as the morph target (FBX: blend shape channel) NAME\n"
+    "(docs/gltf.md, docs/fbx.md)"};
 
 inline constexpr CommandHelp bench_help{
     "bench",

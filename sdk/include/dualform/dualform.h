@@ -396,7 +396,9 @@ typedef struct dfm_skin_input {
  * index of that surface vertex; positions and normals (mesh and session
  * reads) come in the host's order and count, each copy with its surface
  * vertex's value. dfm_mesh_read_surface_map gives every copy's lowest copy.
- * Files from glTF are numbered the same way (their vertices are the host's). */
+ * Files from glTF are numbered the same way (their vertices are the host's),
+ * and files from FBX by their control points (the file's own vertices, before
+ * any split for UVs or normals). */
 typedef struct dfm_mesh_desc {
     uint32_t struct_size;     /* sizeof(dfm_mesh_desc); see the conventions */
     dfm_vec3_input positions; /* the vertices */
@@ -420,12 +422,16 @@ typedef struct dfm_mesh_desc {
  * ones, in order. *out is owned by the caller. Thread-safe. */
 DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_mesh_desc* desc, dfm_mesh** out);
 
-/* Loads an OFF, OBJ, PLY or glTF 2.0 file (.gltf with embedded or external
- * buffers, .glb), or "model:NAME": NAME.off in the context's
- * models_directory (dfm_context_desc). glTF: every triangle primitive of the
- * default scene, node transforms applied (world space), or of one mesh with
- * "FILE.glb#mesh=NAME" (or its index), in its own space; split copies are
- * welded exactly and numbered as the file has them (see dfm_mesh_desc).
+/* Loads an OFF, OBJ, PLY, glTF 2.0 (.gltf with embedded or external
+ * buffers, .glb) or FBX 7.x file (.fbx, binary or ASCII, where the library
+ * was built with Assimp: DFM_ERROR_UNSUPPORTED otherwise), or "model:NAME":
+ * NAME.off in the context's models_directory (dfm_context_desc). glTF: every
+ * triangle primitive of the default scene, node transforms applied (world
+ * space), or of one mesh with "FILE.glb#mesh=NAME" (or its index), in its
+ * own space; split copies are welded exactly and numbered as the file has
+ * them (see dfm_mesh_desc). FBX: every mesh the scene instances, in metres
+ * with +Y up (the file's units and axes applied), numbered by control point,
+ * with its skin, animation stacks and blend shapes (docs/fbx.md).
  * Unsupported data (Draco, quantized positions) is refused naming the mesh,
  * primitive and accessor; external buffers are read only inside the file's
  * folder (see dfm_context_desc.reference_folder). Errors name the file,
@@ -434,12 +440,15 @@ DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_mesh_desc* de
 DFM_API dfm_result dfm_mesh_load(dfm_context* context, const char* path, dfm_mesh** out);
 
 /* Writes the mesh's current rest pose (after bakes) to an .off, .obj, .ply,
- * .gltf or .glb file, atomically: a failed save leaves an existing file
+ * .gltf, .glb or .fbx file, atomically: a failed save leaves an existing file
  * untouched. OFF, OBJ and PLY get the welded surface. glTF gets the host's
  * vertices: a mesh loaded from glTF is written back into its asset with the
  * new positions, POSITION bounds, normals and tangents of the moved part,
  * everything else kept (docs/gltf.md); another mesh gets a fresh minimal
- * asset. Thread-safe. */
+ * asset. FBX is written only for a mesh loaded from a binary FBX file, back
+ * into that file: new control points and normals where the edit moved them,
+ * every other node as it was (docs/fbx.md); DFM_ERROR_UNSUPPORTED for any
+ * other mesh. Thread-safe. */
 DFM_API dfm_result dfm_mesh_save(const dfm_mesh* mesh, const char* path);
 
 /* Releases the caller's reference; sessions on the mesh keep it alive. NULL is
@@ -527,7 +536,7 @@ DFM_API dfm_result dfm_mesh_redo_bake(dfm_mesh* mesh);
 
 /* ---------------------------------------------------------------- skin and pose */
 
-/* A skinned mesh (a glTF asset's skins, animations and morph targets, or a
+/* A skinned mesh (a glTF or FBX asset's skins, animations and morph targets, or a
  * host's dfm_skin_input) can be posed: then everything that reads or edits
  * the rest pose sees it posed, as the engine shows it (morph targets apply
  * before skinning): dfm_mesh_read_positions and _normals, dfm_mesh_get_info,
@@ -542,7 +551,7 @@ DFM_API dfm_result dfm_mesh_redo_bake(dfm_mesh* mesh);
  * collapsed joint) a damped inverse is used and the bake logs
  * DFM_LOG_ID_CORRECTIVE_DAMPED naming the vertices. The bake history is in
  * bind space; undo and redo show it at the current pose. A save writes the
- * bind space into a glTF asset (its positions, or the corrective as a morph
+ * bind space into a glTF or FBX asset (its positions, or the corrective as a morph
  * target, docs/skinning.md); OFF, OBJ and PLY get the shown, posed surface.
  * Setting or clearing a pose changes the shown rest pose, so sessions made
  * before can no longer bake (DFM_ERROR_BUSY), as after another bake. */
@@ -552,7 +561,7 @@ typedef struct dfm_skin_info {
     uint32_t joint_count;        /* joints of every skin; 0 without a skin */
     uint32_t max_influences;     /* the most joints one vertex has */
     size_t skinned_vertex_count; /* host vertices with influences */
-    uint32_t animation_count;    /* the file's animations (glTF) */
+    uint32_t animation_count;    /* the file's animations (glTF, FBX) */
     uint32_t morph_target_count; /* morph targets of the loaded meshes */
     bool posed;                  /* a pose is set */
     int32_t pose_animation;      /* the pose's animation, or -1: joint matrices, or none */
@@ -1187,8 +1196,10 @@ typedef struct dfm_save_options {
      * the edit (the rest pose minus the asset's positions, and the normals'
      * change) as a morph target of this name on every primitive of each
      * mesh it touches, existing targets kept, weights extended with 0 and
-     * mesh.extras.targetNames with the name. NULL or "": write the new
-     * positions instead. Copied during the call. */
+     * mesh.extras.targetNames with the name. FBX, for a mesh loaded from
+     * FBX: the same as a blend shape channel of this name (weight 0) on
+     * each geometry the edit moves. NULL or "": write the new positions
+     * instead. Copied during the call. */
     const char* morph_target_name;
 } dfm_save_options;
 

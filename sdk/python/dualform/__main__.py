@@ -31,15 +31,15 @@ def main(argv: Optional[List[str]] = None) -> int:
     deform = commands.add_parser("deform", help="solve a scenario and write the deformed mesh")
     deform.add_argument("scenario")
     deform.add_argument("--out", required=True,
-                        help="the deformed mesh (.off, .obj, .ply, .gltf, .glb)")
+                        help="the deformed mesh (.off, .obj, .ply, .gltf, .glb, .fbx)")
     deform.add_argument("--report", help="also write the report JSON here")
     deform.add_argument("--roi-out", help="write the ROI's vertices here, one a line")
     deform.add_argument("--strict", action="store_true", help="fail when the solve did not converge")
     deform.add_argument("--hard-handles", action="store_true")
     deform.add_argument("--method", choices=["fitted_rotations", "paper"])
     deform.add_argument("--morph-target", metavar="NAME",
-                        help="for a glTF mesh: keep the asset's positions and add the edit as a "
-                             "morph target of this name")
+                        help="for a glTF or FBX mesh: keep the asset's positions and add the "
+                             "edit as a morph target (FBX: blend shape channel) of this name")
     args = parser.parse_args(argv)
     if args.morph_target == "":
         _error("--morph-target needs a name")

@@ -80,8 +80,9 @@ class Mesh(Handle):
 
     @classmethod
     def load(cls, context: Context, path: PathLike) -> "Mesh":
-        """Loads an OFF, OBJ, PLY or glTF (.gltf, .glb, ``FILE.glb#mesh=NAME``)
-        file, or ``model:NAME`` from the context's models folder."""
+        """Loads an OFF, OBJ, PLY, glTF (.gltf, .glb, ``FILE.glb#mesh=NAME``)
+        or FBX (.fbx, binary or ASCII 7.x; docs/fbx.md) file, or
+        ``model:NAME`` from the context's models folder."""
         out = _out_handle()
         check(_native.lib().dfm_mesh_load(context.pointer, os.fsencode(path), ctypes.byref(out)))
         return cls(context, out.value)
@@ -106,11 +107,12 @@ class Mesh(Handle):
     def save(self, path: PathLike, *, ply_encoding: Optional[PlyEncoding] = None,
              ply_float: bool = False, obj_normals: bool = False,
              morph_target: Optional[str] = None) -> None:
-        """Writes the rest pose to .off, .obj, .ply, .gltf or .glb
-        (atomically). PLY is binary little-endian with double coordinates
-        unless told otherwise. ``morph_target``: for a mesh loaded from glTF,
-        keep the asset's positions and add the edit as a morph target of
-        that name."""
+        """Writes the rest pose to .off, .obj, .ply, .gltf, .glb or, for a
+        mesh loaded from binary FBX, back into its .fbx (atomically). PLY is
+        binary little-endian with double coordinates unless told otherwise.
+        ``morph_target``: for a mesh loaded from glTF or FBX, keep the asset's
+        positions and add the edit as a morph target (FBX: blend shape
+        channel) of that name."""
         options = _native.SaveOptions()
         options.struct_size = ctypes.sizeof(options)
         options.ply_encoding = int(ply_encoding or 0)

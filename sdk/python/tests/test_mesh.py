@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -147,3 +148,32 @@ def test_a_saved_glb_names_its_mesh_after_the_file(cow, tmp_path):
     document = json.loads(data[20:20 + length])
     assert document["meshes"][0]["name"] == "cow-leg"
     assert document["nodes"][0]["name"] == "cow-leg"
+
+
+FBX = Path(__file__).resolve().parents[3] / "tests" / "data" / "fbx"
+
+
+def test_an_fbx_edit_goes_back_into_its_file_or_as_a_blend_shape_channel(context, tmp_path):
+    try:
+        strip = dfm.Mesh.load(context, FBX / "strip.fbx")
+    except dfm.UnsupportedError as e:
+        pytest.skip(f"this build reads no FBX: {e}")
+    with strip:
+        assert strip.info.vertex_count == 21
+        rest = strip.positions()
+        lifted = rest.copy()
+        lifted[rest[:, 0] > 1.0, 1] += 0.1
+        strip.set_positions(lifted)
+        strip.save(tmp_path / "edited.fbx")
+        strip.save(tmp_path / "lift.fbx", morph_target="Lift")
+    with dfm.Mesh.load(context, tmp_path / "edited.fbx") as edited:
+        assert np.allclose(edited.positions(), lifted, rtol=0, atol=1e-12)
+    with dfm.Mesh.load(context, tmp_path / "lift.fbx") as kept:
+        assert np.array_equal(kept.positions(), rest)
+        assert b"Lift\x00\x01Geometry" in (tmp_path / "lift.fbx").read_bytes()
+
+
+def test_fbx_is_written_only_back_into_its_own_file(cow, tmp_path):
+    with pytest.raises(dfm.UnsupportedError, match="FBX is written only back into the FBX file"):
+        cow.save(tmp_path / "cow.fbx")
+    assert not (tmp_path / "cow.fbx").exists()
