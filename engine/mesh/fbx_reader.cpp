@@ -71,8 +71,6 @@ bool decompose(const glm::dmat4& m, SkeletonNode& node) {
     return true;
 }
 
-using Influences = std::vector<std::pair<std::uint32_t, double>>;
-
 // Whether a quad is cut on its 1-3 diagonal rather than 0-2: where corner 1
 // or 3 does not lie strictly on its own side of the 0-2 diagonal (a quad
 // folded over it, or degenerate), as Blender decides for its exports
@@ -83,8 +81,8 @@ bool quad_folds(const FbxGeometry& g, const std::vector<std::int64_t>& quad) {
     glm::vec3 c[4];
     for (int k = 0; k < 4; ++k) {
         const double* p = &g.control_points[3 * static_cast<std::size_t>(quad[k])];
-        c[k] = glm::vec3(static_cast<float>(p[0]), static_cast<float>(p[1]),
-                         static_cast<float>(p[2]));
+        c[k] =
+            glm::vec3(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]));
     }
     const glm::vec3 normal = glm::cross(c[0] - c[2], c[1] - c[3]);
     const float length = glm::length(normal);
@@ -120,13 +118,7 @@ private:
     Status error(Errc code, const std::string& what) const {
         return Status(code, std::string(source_) + ": " + what);
     }
-    void warn(const std::string& what) {
-        if (report_.warnings.size() < LoadReport::max_warnings) {
-            report_.warnings.push_back(std::string(source_) + ": " + what);
-        } else {
-            ++report_.suppressed_warnings;
-        }
-    }
+    void warn(const std::string& what) { report_.warn(std::string(source_) + ": " + what); }
 
     Status import();
     void nodes();
@@ -151,7 +143,7 @@ private:
     const aiScene* ai_ = nullptr;
     std::vector<const aiNode*> ai_nodes_;                          // per skin node
     std::unordered_map<std::string, std::uint32_t> node_by_name_;  // Assimp's names
-    std::vector<Influences> influences_;                           // per host vertex
+    std::vector<InfluenceList> influences_;                        // per host vertex
     // Geometries' first morph target, by the name Assimp gives a mesh's
     // morph animation ("MODEL*0").
     std::map<std::string, std::pair<std::size_t, std::size_t>> morph_columns_;
@@ -627,22 +619,10 @@ Status FbxLoader::run() {
         skin_ = Skin{};
         return Status::ok();
     }
-    const std::size_t n = host_.positions.size();
-    skin_.influence_offsets.assign(n + 1, 0);
-    std::size_t unweighted = 0;
-    for (std::size_t v = 0; v < n; ++v) {
-        const Influences& list = influences_[v];
-        double sum = 0.0;
-        for (const auto& e : list) sum += e.second;
-        for (const auto& e : list) {
-            skin_.influence_joints.push_back(e.first);
-            skin_.influence_weights.push_back(e.second / sum);
-        }
-        skin_.max_influences =
-            std::max(skin_.max_influences, static_cast<std::uint32_t>(list.size()));
-        skin_.influence_offsets[v + 1] = static_cast<std::uint32_t>(skin_.influence_joints.size());
-        if (list.empty()) ++unweighted;
-    }
+    const std::size_t unweighted = static_cast<std::size_t>(
+        std::count_if(influences_.begin(), influences_.end(),
+                      [](const InfluenceList& list) { return list.empty(); }));
+    set_influences(influences_, skin_);
     if (skin_.joint_count() > 0 && unweighted > 0) {
         warn(std::to_string(unweighted) +
              " control points have no skin weight; posed, they stay where they are bound");

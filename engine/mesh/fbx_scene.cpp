@@ -39,12 +39,7 @@ public:
 
 private:
     void warn(const FbxNode& node, const std::string& what) {
-        if (report_.warnings.size() < LoadReport::max_warnings) {
-            report_.warnings.push_back(doc_.where(node).prefix() + "node " + doc_.path(node) +
-                                       ": " + what);
-        } else {
-            ++report_.suppressed_warnings;
-        }
+        report_.warn(doc_.where(node).prefix() + "node " + doc_.path(node) + ": " + what);
     }
     Status error(Errc code, const FbxNode& node, const std::string& what) const {
         return doc_.error(code, node, what);

@@ -46,11 +46,7 @@ void weld_fbx(const Mesh& host, const Skin& host_skin, const WeldOptions& option
                                  " positions have control points that faces connect but whose "
                                  "skins or morph deltas differ; they were not welded, and the "
                                  "surface has a seam there";
-        if (report.warnings.size() < LoadReport::max_warnings) {
-            report.warnings.push_back(source + ": " + what);
-        } else {
-            ++report.suppressed_warnings;
-        }
+        report.warn(source + ": " + what);
     }
 }
 

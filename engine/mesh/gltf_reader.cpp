@@ -195,13 +195,7 @@ private:
     Status error(Errc code, const std::string& what) const {
         return Status(code, std::string(source_) + ": " + what);
     }
-    void warn(const std::string& what) {
-        if (report_.warnings.size() < LoadReport::max_warnings) {
-            report_.warnings.push_back(std::string(source_) + ": " + what);
-        } else {
-            ++report_.suppressed_warnings;
-        }
-    }
+    void warn(const std::string& what) { report_.warn(std::string(source_) + ": " + what); }
 
     const tinygltf::Model& model_;
     std::string_view source_;
@@ -555,10 +549,10 @@ Status read_gltf(std::string_view bytes, std::string_view source, const External
                                              (binary ? "GLB" : "document") + ": " +
                                              one_line(err.empty() ? warn : err));
     }
-    if (!warn.empty()) report.warnings.push_back(name + ": " + one_line(warn));
+    if (!warn.empty()) report.warn(name + ": " + one_line(warn));
     // What tinygltf skipped and still loaded (an animation channel that
     // names no node, for one) it reports as an error text.
-    if (!err.empty()) report.warnings.push_back(name + ": skipped: " + one_line(err));
+    if (!err.empty()) report.warn(name + ": skipped: " + one_line(err));
     for (const std::string& ext : model.extensionsRequired) {
         if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
             ext == "KHR_mesh_quantization") {

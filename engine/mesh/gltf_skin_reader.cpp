@@ -35,17 +35,11 @@ private:
         return Status(code, std::string(source_) + ": " + what);
     }
     Status located(const Status& s) const { return error(s.code(), s.message()); }
-    void warn(const std::string& what) {
-        if (report_.warnings.size() < LoadReport::max_warnings) {
-            report_.warnings.push_back(std::string(source_) + ": " + what);
-        } else {
-            ++report_.suppressed_warnings;
-        }
-    }
+    void warn(const std::string& what) { report_.warn(std::string(source_) + ": " + what); }
     const tinygltf::Primitive& first_primitive(std::uint32_t range) const;
     Status vertex_influences(const GltfVertexRange& r, const tinygltf::Primitive& prim,
                              std::uint32_t joint_base, std::size_t joint_count,
-                             std::vector<std::vector<std::pair<std::uint32_t, double>>>& out);
+                             std::vector<InfluenceList>& out);
     Status channel(std::size_t a, std::size_t c, Animation& out, bool& keep);
 
     const tinygltf::Model& model_;
@@ -182,9 +176,9 @@ const tinygltf::Primitive& SkinReader::first_primitive(std::uint32_t range) cons
     return model_.meshes[asset_.ranges[range].mesh].primitives.front();
 }
 
-Status SkinReader::vertex_influences(
-    const GltfVertexRange& r, const tinygltf::Primitive& prim, std::uint32_t joint_base,
-    std::size_t joint_count, std::vector<std::vector<std::pair<std::uint32_t, double>>>& out) {
+Status SkinReader::vertex_influences(const GltfVertexRange& r, const tinygltf::Primitive& prim,
+                                     std::uint32_t joint_base, std::size_t joint_count,
+                                     std::vector<InfluenceList>& out) {
     const std::string where = "mesh " + std::to_string(r.mesh);
     for (int set = 0;; ++set) {
         const std::string joints_name = "JOINTS_" + std::to_string(set);
@@ -250,15 +244,8 @@ Status SkinReader::vertex_influences(
                                      " joints");
                 }
                 if (weight == 0.0) continue;
-                auto& list = out[r.first_vertex + v];
-                const std::uint32_t id = joint_base + static_cast<std::uint32_t>(joint);
-                const auto same = std::find_if(list.begin(), list.end(),
-                                               [&](const auto& e) { return e.first == id; });
-                if (same != list.end()) {
-                    same->second += weight;
-                } else {
-                    list.push_back({id, weight});
-                }
+                add_influence(out[r.first_vertex + v],
+                              joint_base + static_cast<std::uint32_t>(joint), weight);
             }
         }
     }
@@ -266,7 +253,7 @@ Status SkinReader::vertex_influences(
 
 Status SkinReader::influences() {
     const std::size_t n = asset_.local_positions.size();
-    std::vector<std::vector<std::pair<std::uint32_t, double>>> lists(n);
+    std::vector<InfluenceList> lists(n);
     for (std::uint32_t ri = 0; ri < asset_.ranges.size(); ++ri) {
         const GltfVertexRange& r = asset_.ranges[ri];
         if (r.skin < 0) continue;
@@ -284,20 +271,7 @@ Status SkinReader::influences() {
             }
         }
     }
-    skin_.influence_offsets.assign(n + 1, 0);
-    for (std::size_t v = 0; v < n; ++v) {
-        auto& list = lists[v];
-        std::sort(list.begin(), list.end());
-        double sum = 0.0;
-        for (const auto& e : list) sum += e.second;
-        for (const auto& e : list) {
-            skin_.influence_joints.push_back(e.first);
-            skin_.influence_weights.push_back(e.second / sum);
-        }
-        skin_.max_influences =
-            std::max(skin_.max_influences, static_cast<std::uint32_t>(list.size()));
-        skin_.influence_offsets[v + 1] = static_cast<std::uint32_t>(skin_.influence_joints.size());
-    }
+    set_influences(lists, skin_);
     return Status::ok();
 }
 

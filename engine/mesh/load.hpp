@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/status.hpp"
@@ -26,6 +27,15 @@ struct LoadReport {
     std::size_t suppressed_warnings = 0;    // warnings beyond those
 
     static constexpr std::size_t max_warnings = 20;
+
+    // Keeps `what` among the first max_warnings, or counts it beyond them.
+    void warn(std::string what) {
+        if (warnings.size() < max_warnings) {
+            warnings.push_back(std::move(what));
+        } else {
+            ++suppressed_warnings;
+        }
+    }
 };
 
 // Loads an OFF, OBJ, PLY, glTF (.gltf, .glb, optionally with "#mesh=NAME";

@@ -85,11 +85,7 @@ Status MeshBuilder::add_polygon(std::span<const std::int64_t> corners, const Whe
 }
 
 void MeshBuilder::warn(const Where& where, const std::string& what) {
-    if (report_.warnings.size() < LoadReport::max_warnings) {
-        report_.warnings.push_back(where.prefix() + what);
-    } else {
-        ++report_.suppressed_warnings;
-    }
+    report_.warn(where.prefix() + what);
 }
 
 }  // namespace dfm::mesh

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/gtc/quaternion.hpp>
@@ -92,5 +93,16 @@ struct Skin {
     }
     std::size_t skinned_vertex_count() const;
 };
+
+// One vertex's influences as a loader gathers them: (joint, weight) pairs,
+// weights positive.
+using InfluenceList = std::vector<std::pair<std::uint32_t, double>>;
+
+// Adds `weight` of `joint` to `list`, to the joint's entry if it has one.
+void add_influence(InfluenceList& list, std::uint32_t joint, double weight);
+
+// The skin's influences from one list per vertex (each sorted by joint and
+// normalised to sum 1 here; a list may be empty), and max_influences.
+void set_influences(std::vector<InfluenceList>& lists, Skin& skin);
 
 }  // namespace dfm::mesh

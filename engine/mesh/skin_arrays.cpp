@@ -32,10 +32,8 @@ Status skin_from_arrays(std::size_t vertex_count, std::uint32_t influence_count,
             return Status(Errc::numerical, which + " is not invertible");
         }
     }
-    out.influence_offsets.assign(vertex_count + 1, 0);
-    std::vector<std::pair<std::uint32_t, double>> list;
+    std::vector<InfluenceList> lists(vertex_count);
     for (std::size_t v = 0; v < vertex_count; ++v) {
-        list.clear();
         double sum = 0.0;
         for (std::uint32_t k = 0; k < influence_count; ++k) {
             const std::size_t at = v * influence_count + k;
@@ -52,27 +50,15 @@ Status skin_from_arrays(std::size_t vertex_count, std::uint32_t influence_count,
             }
             if (weights[at] == 0.0) continue;
             sum += weights[at];
-            const auto same = std::find_if(list.begin(), list.end(),
-                                           [&](const auto& e) { return e.first == joints[at]; });
-            if (same != list.end()) {
-                same->second += weights[at];
-            } else {
-                list.push_back({joints[at], weights[at]});
-            }
+            add_influence(lists[v], joints[at], weights[at]);
         }
         if (!(sum > 0.0) || !std::isfinite(sum)) {
             return Status(Errc::numerical, "vertex " + std::to_string(v) + ": its weights sum to " +
                                                std::to_string(sum) +
                                                " (they must sum to a positive number)");
         }
-        std::sort(list.begin(), list.end());
-        for (const auto& [joint, weight] : list) {
-            out.influence_joints.push_back(joint);
-            out.influence_weights.push_back(weight / sum);
-        }
-        out.max_influences = std::max(out.max_influences, static_cast<std::uint32_t>(list.size()));
-        out.influence_offsets[v + 1] = static_cast<std::uint32_t>(out.influence_joints.size());
     }
+    set_influences(lists, out);
     out.inverse_bind.assign(inverse_bind.begin(), inverse_bind.end());
     out.joint_nodes.assign(joint_count, no_index);
     out.joint_names.resize(joint_count);

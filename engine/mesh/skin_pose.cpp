@@ -186,14 +186,6 @@ glm::dvec3 damped_solve(const double m[9], double floor, const glm::dvec3& b) {
 
 }  // namespace
 
-std::size_t Skin::skinned_vertex_count() const {
-    std::size_t n = 0;
-    for (std::size_t v = 0; v < vertex_count(); ++v) {
-        if (influence_offsets[v + 1] > influence_offsets[v]) ++n;
-    }
-    return n;
-}
-
 Status sample_pose(const Skin& skin, std::size_t animation, double time, SkinPose& out) {
     if (animation >= skin.animations.size()) {
         return Status(Errc::out_of_range, "animation " + std::to_string(animation) +

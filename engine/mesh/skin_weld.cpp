@@ -94,13 +94,7 @@ void weld_skinned(const Mesh& split, const Skin& host_skin, const WeldOptions& o
     surface_skin.reset();
     if (host_skin.vertex_count() == 0) return;
     surface_skin = std::make_shared<const Skin>(skin_on_surface(host_skin, weld));
-    const auto warn = [&](const std::string& what) {
-        if (report.warnings.size() < LoadReport::max_warnings) {
-            report.warnings.push_back(source + ": " + what);
-        } else {
-            ++report.suppressed_warnings;
-        }
-    };
+    const auto warn = [&](const std::string& what) { report.warn(source + ": " + what); };
     if (weld.kept_apart > 0) {
         warn(std::to_string(weld.kept_apart) +
              " positions have copies that faces connect but whose skins (joints or weights) "
