@@ -12,9 +12,9 @@ Status save_mesh(const std::filesystem::path& path, const Mesh& mesh, const Writ
     const std::string name = path.string();
     const std::optional<FileFormat> format = format_from_extension(path);
     if (!format) {
-        return Status(Errc::unsupported,
-                      name +
-                          ": unknown mesh format (expected .off, .obj, .ply, .gltf, .glb or .fbx)");
+        return Status(
+            Errc::unsupported,
+            name + ": unknown mesh format (expected .off, .obj, .ply, .gltf, .glb or .fbx)");
     }
     try {
         std::string bytes;

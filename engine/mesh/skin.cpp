@@ -36,7 +36,8 @@ void set_influences(std::vector<InfluenceList>& lists, Skin& skin) {
             skin.influence_joints.push_back(joint);
             skin.influence_weights.push_back(weight / sum);
         }
-        skin.max_influences = std::max(skin.max_influences, static_cast<std::uint32_t>(list.size()));
+        skin.max_influences =
+            std::max(skin.max_influences, static_cast<std::uint32_t>(list.size()));
         skin.influence_offsets[v + 1] = static_cast<std::uint32_t>(skin.influence_joints.size());
     }
 }
