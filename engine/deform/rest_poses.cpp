@@ -15,12 +15,28 @@ std::shared_ptr<MeshModel> RestPoses::make_model() const {
     return make_model_ ? make_model_() : std::make_shared<MeshModel>();
 }
 
+const std::vector<glm::dvec3>& RestPoses::posed_locked() const {
+    if (posed_of_ != current_.bind || posed_for_ != pose_version_) {
+        const MeshModel& bind = *current_.bind;
+        posed_.resize(bind.mesh.vertex_count());
+        mesh::pose_positions(*skin_, *pose_, bind.mesh.positions, posed_);
+        posed_of_ = current_.bind;
+        posed_for_ = pose_version_;
+    }
+    return posed_;
+}
+
 const RestPoses::Pose& RestPoses::shown_locked(const Step& step) const {
     if (!pose_) return step.bind;
     if (step.shown && step.shown_for == pose_version_) return step.shown;
     const MeshModel& bind = *step.bind;
-    std::vector<glm::dvec3> posed(bind.mesh.vertex_count());
-    mesh::pose_positions(*skin_, *pose_, bind.mesh.positions, posed);
+    std::vector<glm::dvec3> posed;
+    if (&step == &current_) {
+        posed = posed_locked();
+    } else {
+        posed.resize(bind.mesh.vertex_count());
+        mesh::pose_positions(*skin_, *pose_, bind.mesh.positions, posed);
+    }
     std::shared_ptr<MeshModel> model = make_model();
     if (Status s = bake_positions(bind, posed, *model); !s) {
         // set_skin_pose checked the current shape posed; a shape that undo
@@ -41,6 +57,19 @@ RestPoses::Pose RestPoses::current() const {
 RestPoses::Pose RestPoses::bind() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return current_.bind;
+}
+
+void RestPoses::read_shown(
+    const std::function<void(const MeshModel&, std::span<const glm::dvec3>)>& visit) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const MeshModel& bind = *current_.bind;
+    if (!pose_) {
+        visit(bind, bind.mesh.positions);
+    } else if (current_.shown && current_.shown_for == pose_version_) {
+        visit(bind, current_.shown->mesh.positions);
+    } else {
+        visit(bind, posed_locked());
+    }
 }
 
 Status RestPoses::add_step(const Pose& expected, Pose next, const std::function<Status()>& before) {
@@ -125,9 +154,9 @@ void RestPoses::for_each(const std::function<void(const MeshModel&)>& visit) con
 Status RestPoses::set_skin_pose(mesh::SkinPose pose) {
     if (!skin_) return Status(Errc::unsupported, "the mesh has no skin to pose");
     std::lock_guard<std::mutex> lock(mutex_);
-    const std::vector<glm::dvec3>& bind = current_.bind->mesh.positions;
-    std::vector<glm::dvec3> posed(bind.size());
-    mesh::pose_positions(*skin_, pose, bind, posed);
+    const MeshModel& bind = *current_.bind;
+    std::vector<glm::dvec3> posed(bind.mesh.vertex_count());
+    mesh::pose_positions(*skin_, pose, bind.mesh.positions, posed);
     for (const glm::dvec3& p : posed) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
             return Status(Errc::numerical,
@@ -137,6 +166,9 @@ Status RestPoses::set_skin_pose(mesh::SkinPose pose) {
     }
     pose_ = std::move(pose);
     ++pose_version_;
+    posed_ = std::move(posed);
+    posed_of_ = current_.bind;
+    posed_for_ = pose_version_;
     return Status::ok();
 }
 
@@ -144,6 +176,8 @@ void RestPoses::clear_skin_pose() {
     std::lock_guard<std::mutex> lock(mutex_);
     pose_.reset();
     ++pose_version_;
+    posed_of_.reset();
+    posed_.clear();
 }
 
 std::optional<mesh::SkinPose> RestPoses::skin_pose() const {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "core/status.hpp"
@@ -38,6 +39,12 @@ public:
     Pose current() const;
     // The current bind-space rest pose: what a save of a skinned asset writes.
     Pose bind() const;
+    // Calls `visit(bind, positions)` under the lock with the current
+    // bind-space pose and the positions shown: a reader of the shown shape
+    // that needs no posed model (its dual Laplacian) gets them without
+    // building it, as skinned when the pose was set.
+    void read_shown(
+        const std::function<void(const MeshModel&, std::span<const glm::dvec3>)>& visit) const;
 
     // Makes `next` the current pose, a new step of the history, if `expected`
     // is still the current (shown) one; `before` runs first under the
@@ -81,6 +88,9 @@ private:
         mutable std::uint64_t shown_for = 0;
     };
     const Pose& shown_locked(const Step& step) const;
+    // The current bind pose's positions at the pose set (posed_), skinned
+    // now unless they already are.
+    const std::vector<glm::dvec3>& posed_locked() const;
     bool step(std::vector<Step>& from, std::vector<Step>& to);
     std::shared_ptr<MeshModel> make_model() const;
 
@@ -92,6 +102,12 @@ private:
     MakeModel make_model_;
     std::optional<mesh::SkinPose> pose_;
     std::uint64_t pose_version_ = 0;  // grows with every set_skin_pose
+    // The positions of the bind pose `posed_of_` at pose version
+    // `posed_for_`: what set_skin_pose skinned, kept for the reads and the
+    // posed model that follow.
+    mutable std::vector<glm::dvec3> posed_;
+    mutable Pose posed_of_;  // held, so that no later model takes its address
+    mutable std::uint64_t posed_for_ = 0;
     mesh::CorrectiveReport last_corrective_;
 };
 

@@ -353,13 +353,17 @@ extern "C" DFM_API dfm_result dfm_mesh_read_positions(const dfm_mesh* mesh,
     return guarded(fn, [&] {
         MeshObject* m = resolve_mesh(mesh);
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
-        const auto model = m->state->current();
-        const HostNumbering numbering(*m->state, model->mesh.vertex_count());
-        if (std::string e = check_vec3_output(out, numbering.host_count(), "out"); !e.empty()) {
-            return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
-        }
-        numbering.write_all(*out, model->mesh.positions);
-        return DFM_OK;
+        dfm_result r = DFM_OK;
+        m->state->poses.read_shown([&](const deform::MeshModel& bind,
+                                       std::span<const glm::dvec3> shown) {
+            const HostNumbering numbering(*m->state, bind.mesh.vertex_count());
+            if (std::string e = check_vec3_output(out, numbering.host_count(), "out"); !e.empty()) {
+                r = report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
+                return;
+            }
+            numbering.write_all(*out, shown);
+        });
+        return r;
     });
 }
 
@@ -410,15 +414,19 @@ extern "C" DFM_API dfm_result dfm_mesh_read_normals(const dfm_mesh* mesh,
     return guarded(fn, [&] {
         MeshObject* m = resolve_mesh(mesh);
         if (m == nullptr) return bad_handle(fn, "mesh", mesh);
-        const auto model = m->state->current();
-        const HostNumbering numbering(*m->state, model->mesh.vertex_count());
-        if (std::string e = check_vec3_output(out, numbering.host_count(), "out"); !e.empty()) {
-            return report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
-        }
-        std::vector<glm::dvec3> normals;
-        mesh::compute_vertex_normals(model->mesh, model->mesh.positions, normals);
-        numbering.write_all(*out, normals);
-        return DFM_OK;
+        dfm_result r = DFM_OK;
+        m->state->poses.read_shown([&](const deform::MeshModel& bind,
+                                       std::span<const glm::dvec3> shown) {
+            const HostNumbering numbering(*m->state, bind.mesh.vertex_count());
+            if (std::string e = check_vec3_output(out, numbering.host_count(), "out"); !e.empty()) {
+                r = report(fn, DFM_ERROR_INVALID_ARGUMENT, e);
+                return;
+            }
+            std::vector<glm::dvec3> normals;
+            mesh::compute_vertex_normals(bind.mesh, shown, normals);
+            numbering.write_all(*out, normals);
+        });
+        return r;
     });
 }
 

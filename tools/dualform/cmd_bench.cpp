@@ -135,14 +135,21 @@ double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+// A posed scenario's costs, one sample each a call (ms).
+struct PoseTimes {
+    std::vector<double> set_pose;     // dfm_mesh_set_pose_animation
+    std::vector<double> read;         // dfm_mesh_read_positions after it
+    std::vector<double> posed_model;  // the first call that needs the posed model
+    std::vector<double> bake;         // dfm_mesh_set_positions in the pose
+};
+
 // Posing a posed scenario's mesh: dfm_mesh_set_pose_animation at times
-// across its animation (100 calls a repeat), the first read after each of
-// `repeat` of them (which builds the posed model), and `repeat` bakes of the
-// drag's last frame (dfm_mesh_set_positions in the pose: the corrective and
-// the models), each undone. The scenario's pose is set again at the end.
-ToolStatus time_pose(const ScenarioMesh& mesh, dfm_session* drag, int repeat,
-                     std::vector<double>& pose_ms, std::vector<double>& posed_model_ms,
-                     std::vector<double>& bake_ms) {
+// across its animation (100 calls a repeat); after the last of each repeat
+// a read of the posed positions, then dfm_roi_all, the first call that
+// needs the posed model (its dual Laplacian); and `repeat` bakes of the
+// drag's last frame (the corrective and the models), each undone. The
+// scenario's pose is set again at the end.
+ToolStatus time_pose(const ScenarioMesh& mesh, dfm_session* drag, int repeat, PoseTimes& times) {
     dfm_mesh* m = mesh.mesh.get();
     dfm_skin_info skin = {};
     if (ToolStatus s = api_status(dfm_mesh_get_skin_info(m, &skin)); !s) return s;
@@ -159,11 +166,16 @@ ToolStatus time_pose(const ScenarioMesh& mesh, dfm_session* drag, int repeat,
             const auto start = Clock::now();
             if (ToolStatus s = api_status(dfm_mesh_set_pose_animation(m, animation, t)); !s)
                 return s;
-            pose_ms.push_back(ms_since(start));
+            times.set_pose.push_back(ms_since(start));
         }
-        const auto start = Clock::now();
+        auto start = Clock::now();
         if (ToolStatus s = api_status(dfm_mesh_read_positions(m, &out)); !s) return s;
-        posed_model_ms.push_back(ms_since(start));
+        times.read.push_back(ms_since(start));
+        start = Clock::now();
+        dfm_roi* all = nullptr;
+        if (ToolStatus s = api_status(dfm_roi_all(m, &all)); !s) return s;
+        times.posed_model.push_back(ms_since(start));
+        dfm_roi_destroy(all);
     }
     if (ToolStatus s = api_status(dfm_mesh_set_pose_animation(m, animation, scenario_time)); !s)
         return s;
@@ -172,7 +184,7 @@ ToolStatus time_pose(const ScenarioMesh& mesh, dfm_session* drag, int repeat,
     for (int r = 0; r < repeat; ++r) {
         const auto start = Clock::now();
         if (ToolStatus s = api_status(dfm_mesh_set_positions(m, &in)); !s) return s;
-        bake_ms.push_back(ms_since(start));
+        times.bake.push_back(ms_since(start));
         if (ToolStatus s = api_status(dfm_mesh_undo_bake(m)); !s) return s;
     }
     return ToolStatus::ok();
@@ -297,11 +309,9 @@ ToolStatus bench_scenario(const std::string& path, const BenchInput& in, int rep
     // A posed scenario: what posing costs (the skinning, and the posed
     // model an edit builds on first need) and what a bake's corrective
     // costs, the drag's last frame baked and undone.
-    std::vector<double> pose_ms, posed_model_ms, bake_ms;
+    PoseTimes pose_times;
     if (scenario.pose) {
-        if (ToolStatus s = time_pose(mesh, drag.get(), repeat, pose_ms, posed_model_ms, bake_ms);
-            !s)
-            return s;
+        if (ToolStatus s = time_pose(mesh, drag.get(), repeat, pose_times); !s) return s;
     }
 
     // The drag's session, as it ends, and the mesh: what an edit holds.
@@ -365,9 +375,10 @@ ToolStatus bench_scenario(const std::string& path, const BenchInput& in, int rep
     write_quality(json, quality);
     if (scenario.pose) {
         json.key("pose").begin_object();
-        write_spread(json, "set_pose_ms", pose_ms);
-        write_spread(json, "posed_model_ms", posed_model_ms);
-        write_spread(json, "bake_corrective_ms", bake_ms);
+        write_spread(json, "set_pose_ms", pose_times.set_pose);
+        write_spread(json, "read_positions_ms", pose_times.read);
+        write_spread(json, "posed_model_ms", pose_times.posed_model);
+        write_spread(json, "bake_corrective_ms", pose_times.bake);
         json.end_object();
     }
     const auto mib = [](std::size_t bytes) { return static_cast<double>(bytes) / (1 << 20); };

@@ -628,7 +628,8 @@ DFM_API dfm_result dfm_mesh_get_morph_target_info(const dfm_mesh* mesh, uint32_t
  * an animation the mesh does not have, DFM_ERROR_NUMERICAL for a time that
  * is not finite, DFM_ERROR_UNSUPPORTED for a mesh without a skin or morph
  * targets. Takes well under a millisecond at 20,000 vertices
- * (docs/benchmarks.md); the posed model that edits need is built when one
+ * (docs/benchmarks.md), and dfm_mesh_read_positions after it reads the
+ * positions it skinned; the posed model that edits need is built when one
  * first needs it. Thread-safe. */
 DFM_API dfm_result dfm_mesh_set_pose_animation(dfm_mesh* mesh, uint32_t animation,
                                                double time_seconds);
