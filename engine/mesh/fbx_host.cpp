@@ -4,6 +4,7 @@
 #include <new>
 
 #include "mesh/fbx_io.hpp"
+#include "mesh/skin_weld.hpp"
 
 namespace dfm::mesh {
 
@@ -22,7 +23,10 @@ Status load_fbx_host(std::string bytes, std::string_view source, const WeldOptio
         return s;
     }
     auto welded = std::make_shared<SeamWeld>();
-    weld_fbx(control_points, skin, weld, std::string(source), surface, *welded, host.skin, report);
+    // Coincident control points that faces connect join only where their
+    // skin and their morph deltas agree.
+    weld_skinned(control_points, skin, WeldBy::skin_and_morphs, weld, std::string(source), surface,
+                 *welded, host.skin, report);
     host.weld = std::move(welded);
     host.fbx = std::move(asset);
     return Status::ok();

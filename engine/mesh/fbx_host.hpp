@@ -15,7 +15,7 @@
 // Errc::unsupported.
 namespace dfm::mesh {
 
-// read_fbx (fbx_io.hpp), then the control points welded (weld_fbx);
+// read_fbx (fbx_io.hpp), then the control points welded (weld_skinned, by skin and morphs);
 // `host` receives the weld, the asset and the skin.
 Status load_fbx_host(std::string bytes, std::string_view source, const WeldOptions& weld,
                      Mesh& surface, HostMesh& host, LoadReport& report);

@@ -28,13 +28,6 @@ namespace dfm::mesh {
 Status read_fbx(std::string bytes, std::string_view source, Mesh& host, FbxAsset& asset, Skin& skin,
                 LoadReport& report);
 
-// weld_skinned (skin_weld.hpp) for a mesh read from FBX, whose host
-// vertices are the file's control points: coincident control points that
-// faces connect join only where their skin and their morph deltas agree.
-void weld_fbx(const Mesh& host, const Skin& host_skin, const WeldOptions& options,
-              const std::string& source, Mesh& surface, SeamWeld& weld,
-              std::shared_ptr<const Skin>& surface_skin, LoadReport& report);
-
 // The asset's file with `host_positions` (Dualform's space, host order) as
 // its meshes' control points: only the Vertices of geometries whose points
 // moved, and their normals (LayerElementNormal, mapped by polygon vertex or

@@ -42,7 +42,8 @@ Status load_host_mesh(const std::filesystem::path& spec, Mesh& surface, HostMesh
             return s;
         }
         auto welded = std::make_shared<SeamWeld>();
-        weld_skinned(split, skin, weld, path.string(), surface, *welded, host.skin, r);
+        weld_skinned(split, skin, WeldBy::skin, weld, path.string(), surface, *welded, host.skin,
+                     r);
         host.weld = std::move(welded);
         host.gltf = std::move(asset);
         return Status::ok();

@@ -108,7 +108,8 @@ Status parse_mesh(std::string_view bytes, FileFormat format, std::string_view so
             }
             SeamWeld weld;
             std::shared_ptr<const Skin> surface_skin;
-            weld_skinned(host, skin, {}, std::string(source), out, weld, surface_skin, r);
+            weld_skinned(host, skin, WeldBy::skin, {}, std::string(source), out, weld, surface_skin,
+                         r);
             return Status::ok();
         }
         if (format == FileFormat::fbx) {

@@ -6,15 +6,27 @@
 
 namespace dfm::mesh {
 
-std::vector<std::uint32_t> skin_classes(const Skin& skin) {
+std::vector<std::uint32_t> skin_classes(const Skin& skin, WeldBy by) {
     const std::size_t n = skin.vertex_count();
     if (n == 0) return {};
-    // A vertex's signature: its joints and weights.
+    // A vertex's signature: its joints and weights, then for every target
+    // that moves it (when morphs count) the target and its delta.
     std::vector<std::vector<double>> signature(n);
     for (std::size_t v = 0; v < n; ++v) {
         for (std::uint32_t k = skin.influence_offsets[v]; k < skin.influence_offsets[v + 1]; ++k) {
             signature[v].push_back(skin.influence_joints[k]);
             signature[v].push_back(skin.influence_weights[k]);
+        }
+        signature[v].push_back(-1.0);
+    }
+    if (by == WeldBy::skin_and_morphs) {
+        for (std::size_t t = 0; t < skin.morph_targets.size(); ++t) {
+            const MorphTarget& target = skin.morph_targets[t];
+            for (std::size_t i = 0; i < target.vertices.size(); ++i) {
+                std::vector<double>& s = signature[target.vertices[i]];
+                s.insert(s.end(), {static_cast<double>(t), target.deltas[i].x, target.deltas[i].y,
+                                   target.deltas[i].z});
+            }
         }
     }
     std::map<std::vector<double>, std::uint32_t> ids;
@@ -86,19 +98,20 @@ Skin skin_on_surface(const Skin& host_skin, const SeamWeld& weld) {
     return out;
 }
 
-void weld_skinned(const Mesh& split, const Skin& host_skin, const WeldOptions& options,
+void weld_skinned(const Mesh& split, const Skin& host_skin, WeldBy by, const WeldOptions& options,
                   const std::string& source, Mesh& surface, SeamWeld& weld,
                   std::shared_ptr<const Skin>& surface_skin, LoadReport& report) {
-    const std::vector<std::uint32_t> classes = skin_classes(host_skin);
+    const std::vector<std::uint32_t> classes = skin_classes(host_skin, by);
     weld_seams(split.positions, split.triangles, options, surface, weld, classes);
     surface_skin.reset();
     if (host_skin.vertex_count() == 0) return;
     surface_skin = std::make_shared<const Skin>(skin_on_surface(host_skin, weld));
     const auto warn = [&](const std::string& what) { report.warn(source + ": " + what); };
     if (weld.kept_apart > 0) {
-        warn(std::to_string(weld.kept_apart) +
-             " positions have copies that faces connect but whose skins (joints or weights) "
-             "differ; they were not welded, and the surface has a seam there");
+        warn(std::to_string(weld.kept_apart) + " positions have copies that faces connect but " +
+             (by == WeldBy::skin ? "whose skins (joints or weights) differ"
+                                 : "whose skins or morph deltas differ") +
+             "; they were not welded, and the surface has a seam there");
     }
     const std::size_t differing = morph_disagreements(host_skin, weld);
     if (differing > 0) {

@@ -11,13 +11,22 @@
 
 namespace dfm::mesh {
 
-// One class per distinct skin of a host vertex: its influences (joints and
-// weights). Copies at one position join only within a class (weld_seams),
-// so a surface vertex has one skin and posing cannot crack a seam. Morph
-// deltas do not split copies (the bind-pose weld stays what it was); a
-// surface vertex takes its lowest copy's (weld_skinned warns where they
-// differ). Empty for an empty skin.
-std::vector<std::uint32_t> skin_classes(const Skin& skin);
+// What must agree for copies at one position to join.
+enum class WeldBy {
+    // Their influences (joints and weights). Morph deltas do not split
+    // copies, so glTF's bind-pose weld stays what it was before skins were
+    // read; a surface vertex takes its lowest copy's deltas, and
+    // weld_skinned warns where they differ.
+    skin,
+    // Their influences and every morph target's delta (FBX's control points,
+    // a format new to the weld).
+    skin_and_morphs,
+};
+
+// One class per distinct skin of a host vertex, as `by` says. Copies at one
+// position join only within a class (weld_seams), so a surface vertex has
+// one skin and posing cannot crack a seam. Empty for an empty skin.
+std::vector<std::uint32_t> skin_classes(const Skin& skin, WeldBy by);
 
 // The skin per surface vertex: each takes its lowest copy's influences and
 // morph deltas (its copies agree, by the classes above).
@@ -27,7 +36,7 @@ Skin skin_on_surface(const Skin& host_skin, const SeamWeld& weld);
 // (`surface_skin` null when `host_skin` is empty); warnings in `report`
 // (naming `source`) count the positions whose copies stayed apart and the
 // surface vertices whose copies' morph deltas differ.
-void weld_skinned(const Mesh& split, const Skin& host_skin, const WeldOptions& options,
+void weld_skinned(const Mesh& split, const Skin& host_skin, WeldBy by, const WeldOptions& options,
                   const std::string& source, Mesh& surface, SeamWeld& weld,
                   std::shared_ptr<const Skin>& surface_skin, LoadReport& report);
 

@@ -234,7 +234,8 @@ extern "C" DFM_API dfm_result dfm_mesh_create(dfm_context* context, const dfm_me
         mesh::Mesh surface;
         auto welded = std::make_shared<mesh::SeamWeld>();
         mesh::LoadReport weld_report;
-        mesh::weld_skinned(m, skin, weld, fn, surface, *welded, host.skin, weld_report);
+        mesh::weld_skinned(m, skin, mesh::WeldBy::skin, weld, fn, surface, *welded, host.skin,
+                           weld_report);
         if (surface.face_count() == 0) {
             return report(fn, DFM_ERROR_INVALID_ARGUMENT, "the weld leaves no triangle");
         }

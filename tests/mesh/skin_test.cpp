@@ -288,7 +288,8 @@ TEST_CASE("skin: split copies whose skins differ are not welded, and the load sa
         mesh::SeamWeld w;
         std::shared_ptr<const mesh::Skin> on_surface;
         mesh::LoadReport report;
-        mesh::weld_skinned(split, skin, {}, "split", surface, w, on_surface, report);
+        mesh::weld_skinned(split, skin, mesh::WeldBy::skin, {}, "split", surface, w, on_surface,
+                           report);
         kept_apart = w.kept_apart;
         surfaces = surface.vertex_count();
         warnings = report.warnings.size();
