@@ -5,6 +5,7 @@
 
 #include "descriptor_layouts_vulkan.hpp"
 #include "dualform/dualform_vulkan.h"
+#include "support/layout_checks.hpp"
 
 // The renderer's entries of the C layer's table of what struct_size 0
 // stands for (sdk/src/vulkan/descriptor_layouts_vulkan.hpp), against copies
@@ -32,10 +33,6 @@ struct device_info {
 
 }  // namespace v0_2
 }  // namespace
-
-#define CHECK_SAME_PLACE(layout, desc, field)                                \
-    CHECK_MESSAGE(offsetof(layout, field) == offsetof(desc, field), #field); \
-    CHECK_MESSAGE(sizeof(layout::field) == sizeof(desc::field), #field)
 
 TEST_CASE("renderer descriptors: the library's struct_size 0 is each struct's 0.2 layout") {
     using dfm::sdk::FirstLayout;

@@ -10,6 +10,7 @@
 #include "descriptor_layouts.hpp"
 #include "dualform/dualform.h"
 #include "sdk/sdk_fixture.hpp"
+#include "support/layout_checks.hpp"
 #include "support/test_files.hpp"
 
 using namespace dfm::test;
@@ -233,11 +234,6 @@ struct save_options {
 }  // namespace v0_2
 
 }  // namespace
-
-// Each field of a layout lies where the struct of today has it.
-#define CHECK_SAME_PLACE(layout, desc, field)                                \
-    CHECK_MESSAGE(offsetof(layout, field) == offsetof(desc, field), #field); \
-    CHECK_MESSAGE(sizeof(layout::field) == sizeof(desc::field), #field)
 
 TEST_CASE("descriptors: the library's struct_size 0 is each struct's 0.2 layout") {
     using dfm::sdk::FirstLayout;
